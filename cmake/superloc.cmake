@@ -1,0 +1,51 @@
+# Build helpers shared by every SuperLoc target.
+
+# C++17, warnings, optional -Werror and sanitizers. Never -march=native: MRPT, PCL and Ceres
+# are built without it, and a differing Eigen alignment crashes at run time.
+function(superloc_target_options target)
+  target_compile_features(${target} PUBLIC cxx_std_17)
+  target_compile_options(${target} PRIVATE -Wall -Wextra)
+  if(SUPERLOC_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(SUPERLOC_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
+    target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# superloc_module(<name> [DEPS <public libs>...] [PRIVATE_DEPS <libs>...])
+# Builds modules/<name>/src/*.cpp into the static library superloc::<name>.
+function(superloc_module name)
+  cmake_parse_arguments(A "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
+  add_library(superloc_${name} STATIC ${srcs})
+  add_library(superloc::${name} ALIAS superloc_${name})
+  target_include_directories(superloc_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_link_libraries(superloc_${name} PUBLIC ${A_DEPS} PRIVATE ${A_PRIVATE_DEPS})
+  superloc_target_options(superloc_${name})
+endfunction()
+
+# superloc_app(<exe-name> <source> [DEPS <libs>...])
+function(superloc_app name src)
+  cmake_parse_arguments(A "" "" "DEPS" ${ARGN})
+  add_executable(${name} ${src})
+  target_link_libraries(${name} PRIVATE ${A_DEPS})
+  superloc_target_options(${name})
+endfunction()
+
+# superloc_test(<module> [DEPS <libs>...]): tests/<module>/test_*.cpp -> test_<module>.
+function(superloc_test module)
+  cmake_parse_arguments(A "" "" "DEPS" ${ARGN})
+  file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${module}/test_*.cpp)
+  if(NOT srcs)
+    return()
+  endif()
+  add_executable(test_${module} ${srcs})
+  target_link_libraries(test_${module} PRIVATE ${A_DEPS} superloc_testing GTest::gtest_main)
+  superloc_target_options(test_${module})
+  gtest_discover_tests(test_${module}
+    WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}
+    DISCOVERY_TIMEOUT 120
+    PROPERTIES LABELS ${module})
+endfunction()

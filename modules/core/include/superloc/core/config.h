@@ -1,0 +1,56 @@
+// Strict checking of INI sections against a Params struct (mrpt::config::CLoadableOptions).
+//
+// MRPT's readers silently turn "abc" into 0 and ignore misspelt keys; a localizer configured
+// that way gives a silent wrong answer. Every module's Params is therefore validated against
+// what its own saveToConfigFile() writes: the key must exist there, and the value must parse
+// as the default's type (number, bool or free text).
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace superloc {
+
+/// Raised for a bad configuration; what() is one line naming the source, section and key.
+class ConfigError : public std::runtime_error {
+   public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Throws ConfigError if `section` of `cfg` holds a key that `defaults.saveToConfigFile` does
+/// not write, or a value whose type differs from the default's. `source` names the INI file
+/// (or "--set") in the message. A missing section is fine (all defaults).
+void validateSection(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+    const mrpt::config::CLoadableOptions& defaults, const std::string& source);
+
+/// Loads `params` from `section` after validateSection(); the one call modules' users make.
+template <class ParamsT>
+ParamsT loadParams(
+    const mrpt::config::CConfigFileBase& cfg, const std::string& section,
+    const std::string& source) {
+    ParamsT p;
+    validateSection(cfg, section, p, source);
+    p.loadFromConfigFile(cfg, section);
+    p.validate();
+    return p;
+}
+
+/// Value of an INI string with any trailing comment ("//", ";" or "#" after blanks) and
+/// surrounding blanks removed.
+std::string stripIniValue(const std::string& raw);
+
+/// Parses a whole string as a finite double; false on any trailing garbage.
+bool parseDouble(const std::string& s, double& out);
+/// Parses true/false/1/0/yes/no (case-insensitive).
+bool parseBool(const std::string& s, bool& out);
+
+/// Applies "section.key=value" overrides (from --set) to a config, throwing ConfigError with
+/// the offending text when it is not of that form.
+void applyOverride(mrpt::config::CConfigFileBase& cfg, const std::string& assignment);
+
+}  // namespace superloc

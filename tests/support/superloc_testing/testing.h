@@ -1,0 +1,37 @@
+// Helpers shared by the SuperLoc test executables.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace superloc::testing {
+
+/// ../shared/data (or the SUPERLOC_SHARED_DATA CMake cache path) joined with `rel`.
+inline std::string sharedData(const std::string& rel = "") {
+    return (std::filesystem::path(SUPERLOC_SHARED_DATA) / rel).string();
+}
+
+/// A path in the source tree, e.g. sourcePath("ini/localize.ini").
+inline std::string sourcePath(const std::string& rel) {
+    return (std::filesystem::path(SUPERLOC_SOURCE_DIR) / rel).string();
+}
+
+/// A fresh, empty folder for one test's outputs (under the build tree), removed first if present.
+inline std::string freshDir(const std::string& name) {
+    const auto dir = std::filesystem::path(SUPERLOC_BINARY_DIR) / "test-output" / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir.string();
+}
+
+/// Skips the current test when the shared data set is missing (developer machines without
+/// ../shared); CI always has it, so the test runs there.
+#define SUPERLOC_REQUIRE_DATA(rel)                                                      \
+    do {                                                                                \
+        if (!std::filesystem::exists(::superloc::testing::sharedData(rel)))             \
+            GTEST_SKIP() << "shared data not found: " << ::superloc::testing::sharedData(rel); \
+    } while (0)
+
+}  // namespace superloc::testing
