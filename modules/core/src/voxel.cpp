@@ -1,0 +1,68 @@
+#include <superloc/core/voxel.h>
+
+#include <cmath>
+#include <unordered_map>
+
+namespace superloc {
+
+VoxelKey voxelKey(const Vec3f& p, float voxel) {
+    return {static_cast<int32_t>(std::floor(p.x() / voxel)),
+            static_cast<int32_t>(std::floor(p.y() / voxel)),
+            static_cast<int32_t>(std::floor(p.z() / voxel))};
+}
+
+std::vector<uint32_t> voxelDownsampleIndices(const std::vector<Vec3f>& points, float voxel) {
+    std::vector<uint32_t> out;
+    if (voxel <= 0) {
+        out.resize(points.size());
+        for (uint32_t i = 0; i < out.size(); ++i) out[i] = i;
+        return out;
+    }
+    struct Cell {
+        uint32_t order;       // rank of first occurrence
+        Eigen::Vector3d sum;  // for the centroid
+        uint32_t count;
+    };
+    std::unordered_map<VoxelKey, Cell, VoxelKeyHash> cells;
+    cells.reserve(points.size() / 4 + 16);
+    std::vector<VoxelKey> keys(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        keys[i] = voxelKey(points[i], voxel);
+        auto [it, inserted] =
+            cells.try_emplace(keys[i], Cell{static_cast<uint32_t>(cells.size()), Vec3d::Zero(), 0});
+        it->second.sum += points[i].cast<double>();
+        it->second.count++;
+    }
+    // Second pass: keep per cell the point nearest the centroid.
+    std::vector<uint32_t> best(cells.size(), UINT32_MAX);
+    std::vector<float> best_d(cells.size(), 0);
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        const Cell& c = cells.find(keys[i])->second;
+        const Vec3f centroid = (c.sum / c.count).cast<float>();
+        const float d = (points[i] - centroid).squaredNorm();
+        if (best[c.order] == UINT32_MAX || d < best_d[c.order]) {
+            best[c.order] = i;
+            best_d[c.order] = d;
+        }
+    }
+    return best;
+}
+
+PointCloud selectIndices(const PointCloud& cloud, const std::vector<uint32_t>& idx) {
+    PointCloud out;
+    out.points.reserve(idx.size());
+    for (uint32_t i : idx) out.points.push_back(cloud.points[i]);
+    if (cloud.intensity.size() == cloud.size())
+        for (uint32_t i : idx) out.intensity.push_back(cloud.intensity[i]);
+    if (cloud.normals.size() == cloud.size())
+        for (uint32_t i : idx) out.normals.push_back(cloud.normals[i]);
+    if (cloud.rgb.size() == cloud.size())
+        for (uint32_t i : idx) out.rgb.push_back(cloud.rgb[i]);
+    return out;
+}
+
+PointCloud voxelDownsample(const PointCloud& cloud, float voxel) {
+    return selectIndices(cloud, voxelDownsampleIndices(cloud.points, voxel));
+}
+
+}  // namespace superloc

@@ -1,0 +1,73 @@
+// The prior map: voxelized map points with a kd-tree and per-point normal, planarity,
+// linearity and local fit residual, computed once at load time.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <superloc/core/types.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace superloc::map {
+
+/// Section [map] of the INI.
+struct MapParams : public mrpt::config::CLoadableOptions {
+    double voxel_size = 0.1;   ///< [m] voxel filter of the loaded map (0 = keep every point)
+    int normal_k = 10;         ///< neighbours used for each point's normal/planarity
+    double normal_max_radius = 1.0;  ///< [m] neighbours farther than this are not used
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    void validate() const;
+};
+
+/// Geometry of one map point's neighbourhood (PCA of its normal_k neighbours).
+struct PointGeometry {
+    Vec3f normal = Vec3f::Zero();  ///< unit; oriented toward the viewpoint when one was known
+    float planarity = 0;           ///< (l2 - l3) / l1 of the covariance eigenvalues l1>=l2>=l3
+    float linearity = 0;           ///< (l1 - l2) / l1
+    float fit_residual = 0;        ///< [m] RMS distance of the neighbours to the fitted plane
+    bool oriented = false;         ///< normal sign is meaningful (viewpoint known)
+};
+
+/// Result of a neighbourhood query.
+struct Neighbors {
+    std::vector<uint32_t> indices;  ///< nearest first
+    std::vector<float> sq_dists;    ///< [m^2]
+};
+
+class PriorMap {
+   public:
+    /// Voxel-filters `cloud` (MapParams::voxel_size), builds the kd-tree and the per-point
+    /// geometry. Normals are flipped toward `viewpoint` when given (else toward their normals'
+    /// existing sign when the cloud had normals; else left unsigned).
+    PriorMap(const PointCloud& cloud, const MapParams& params,
+             const std::optional<Vec3f>& viewpoint = std::nullopt);
+    ~PriorMap();
+    PriorMap(PriorMap&&) noexcept;
+    PriorMap& operator=(PriorMap&&) noexcept;
+
+    /// Loads a map file (any format of io::loadPointCloud) and prepares it.
+    static PriorMap load(const std::string& path, const MapParams& params);
+
+    size_t size() const;
+    const std::vector<Vec3f>& points() const;
+    const Vec3f& point(size_t i) const;
+    const PointGeometry& geometry(size_t i) const;
+
+    /// k nearest map points to q (fewer if the map is smaller); thread-safe.
+    void knn(const Vec3f& q, size_t k, Neighbors& out) const;
+    /// Nearest map point index and squared distance; thread-safe.
+    std::pair<uint32_t, float> nearest(const Vec3f& q) const;
+
+    /// Seconds spent voxelizing, building the kd-tree and computing geometry.
+    double prepareSeconds() const;
+
+   private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace superloc::map

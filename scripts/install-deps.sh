@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs SuperLoc's build and run dependencies from Debian 12 packages.
+set -euo pipefail
+PKGS=(cmake ninja-build g++ pkg-config
+      libmrpt-dev mrpt-apps libceres-dev libpcl-dev libeigen3-dev
+      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev)
+SUDO=""
+if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  $SUDO apt-get update
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+fi
