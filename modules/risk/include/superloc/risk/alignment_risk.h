@@ -1,0 +1,93 @@
+// Alignment risk (DESIGN §5; paper §III-A "Predicting Alignment Risk", §III-B "Observability
+// Estimation"): from the correspondences of one scan at its *predicted* pose, before solving,
+// how well each motion direction x, y, z, roll, pitch, yaw is constrained.
+//
+// A pure function of the correspondences. The axes of the result are the axes the caller
+// expresses p and n in (the localizer uses body axes, those of its relative-pose prior).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <superloc/core/types.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace superloc::risk {
+
+enum class CorrespondenceType : uint8_t { Point = 0, Line = 1, Plane = 2 };
+
+/// One scan-to-map correspondence as seen by the risk analysis.
+struct Correspondence {
+    /// [m] the scan point relative to the sensor origin, in body axes (NOT map coordinates:
+    /// the rotation labels are torques about the sensor; see doc/method.md).
+    Vec3d p = Vec3d::Zero();
+    /// Unit constraint direction, flipped toward the sensor: the plane normal; for a line the
+    /// unit vector from the line to the point; for a point the unit vector from the map point
+    /// to the scan point. Need not be exactly unit (it is normalised); zero = unusable.
+    Vec3d n = Vec3d::UnitZ();
+    /// Fit quality in [0, 1] (e.g. the map planarity); its label counts this much. <= 0 = ignore.
+    double weight = 1.0;
+    CorrespondenceType type = CorrespondenceType::Plane;
+};
+
+/// Section [risk] of the INI.
+struct RiskParams : public mrpt::config::CLoadableOptions {
+    double degenerate_threshold = 0.2;  ///< [-] gamma_k below this flags axis k (paper: 0.2)
+    bool weighted_labels = true;  ///< a label counts its correspondence's weight (else counts 1)
+    bool keep_jacobians = false;  ///< fill RiskReport::jacobians (costs memory; off in the loop)
+    bool hessian_eigen = true;    ///< compute the classic Hessian eigen-analysis for comparison
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    /// Throws ConfigError naming [risk] and the key when a value is out of range.
+    void validate() const;
+};
+
+/// Label value for "no label" (skipped correspondence, or zero lever arm for rotation).
+inline constexpr int8_t kNoLabel = -1;
+
+/// Everything the risk step predicts for one scan. 6-vectors are in (x y z roll pitch yaw) order.
+struct RiskReport {
+    /// J_i = [n_i ; p_i x n_i] (translation first, our order; the paper writes [p x n ; n]),
+    /// one per input correspondence; empty unless RiskParams::keep_jacobians.
+    std::vector<Vec6d> jacobians;
+    /// Per input correspondence: translation label 0 (x), 1 (y), 2 (z) and rotation label
+    /// 3 (roll), 4 (pitch), 5 (yaw) — indices into the 6-vectors —, or kNoLabel.
+    std::vector<int8_t> translation_label;
+    std::vector<int8_t> rotation_label;
+    /// N_x .. N_yaw: number of labels per axis (sum of weights when weighted_labels).
+    Vec6d counts = Vec6d::Zero();
+    std::array<size_t, 3> used_by_type{};  ///< used correspondences by CorrespondenceType
+    size_t skipped = 0;                    ///< non-finite, zero normal or weight <= 0
+    /// Confidence gamma_k = min(1, 3 N_k / (N_x + N_y + N_z)), likewise for rotation; 0 for an
+    /// empty group. Sigma_cov = diag(gamma).
+    Vec6d gamma = Vec6d::Zero();
+    std::array<bool, 6> degenerate{};  ///< gamma_k < degenerate_threshold
+
+    /// Classic analysis (not used for the decision): H = sum w_i J_i J_i^T, eigenvalues
+    /// ascending with unit eigenvectors as columns; condition = lambda_max / lambda_min
+    /// (infinity when lambda_min <= 0). Zero when hessian_eigen is off.
+    Mat6d hessian = Mat6d::Zero();
+    Vec6d eigenvalues = Vec6d::Zero();
+    Mat6d eigenvectors = Mat6d::Zero();
+    double condition_number = 0;
+
+    bool anyDegenerate() const;
+};
+
+/// The risk step: labels, counts, gamma, flags and Hessian eigen-analysis.
+RiskReport computeAlignmentRisk(
+    const std::vector<Correspondence>& correspondences, const RiskParams& params);
+
+/// The flagged axes as letters in 6-vector order, e.g. "x", "xyaw", "" when none
+/// (the `degenerate` column of frames.csv).
+std::string degenerateAxes(const RiskReport& report);
+
+/// Observability-scan colour of a translation label: x red, y green, z blue, anything else
+/// (kNoLabel) grey (paper Fig. 4).
+std::array<uint8_t, 3> observabilityColor(int translation_label);
+
+}  // namespace superloc::risk

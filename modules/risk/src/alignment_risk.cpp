@@ -1,0 +1,112 @@
+// The risk step (DESIGN §5): Jacobians, observability labels, counts, confidence gamma.
+#include <superloc/risk/alignment_risk.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+
+namespace superloc::risk {
+namespace {
+
+/// Index (0..2) of the component of v with the largest magnitude; ties go to the lower index.
+int argmaxAbs(const Vec3d& v) {
+    int best = 0;
+    for (int k = 1; k < 3; ++k)
+        if (std::abs(v[k]) > std::abs(v[best])) best = k;
+    return best;
+}
+
+bool usable(const Correspondence& c) {
+    return c.p.allFinite() && c.n.allFinite() && std::isfinite(c.weight) && c.weight > 0 &&
+           c.n.squaredNorm() > 1e-24;
+}
+
+/// Paper eq. (7)-(8): gamma within one group of three labels, scaled so that a uniform spread
+/// gives 1: gamma_k = min(1, 3 N_k / (N_1 + N_2 + N_3)); an empty group gives 0.
+void groupConfidence(const Vec6d& counts, int first, Vec6d& gamma) {
+    const double total = counts.segment<3>(first).sum();
+    for (int k = first; k < first + 3; ++k)
+        gamma[k] = total > 0 ? std::min(1.0, 3.0 * counts[k] / total) : 0.0;
+}
+
+}  // namespace
+
+bool RiskReport::anyDegenerate() const {
+    for (bool d : degenerate)
+        if (d) return true;
+    return false;
+}
+
+RiskReport computeAlignmentRisk(
+    const std::vector<Correspondence>& correspondences, const RiskParams& params) {
+    RiskReport r;
+    const size_t n = correspondences.size();
+    r.translation_label.assign(n, kNoLabel);
+    r.rotation_label.assign(n, kNoLabel);
+    if (params.keep_jacobians) r.jacobians.assign(n, Vec6d::Zero());
+
+    for (size_t i = 0; i < n; ++i) {
+        const Correspondence& c = correspondences[i];
+        if (!usable(c)) {
+            r.skipped++;
+            continue;
+        }
+        // Paper eq. (4): J_i = [p_i x n_i ; n_i]; stored translation first: [n_i ; p_i x n_i].
+        const Vec3d normal = c.n.normalized();
+        const Vec3d torque = c.p.cross(normal);
+        const double w = params.weighted_labels ? c.weight : 1.0;
+
+        // Table I of the paper: the translation label is the axis of largest |n_i . e_k|, the
+        // rotation label the axis of largest |(p_i x n_i) . e_k|. Each counts w.
+        const int t = argmaxAbs(normal);
+        r.translation_label[i] = static_cast<int8_t>(t);
+        r.counts[t] += w;
+        // A point on the line through the sensor along its normal has no lever arm: it
+        // constrains no rotation and gets no rotation label.
+        if (torque.squaredNorm() > 1e-24) {
+            const int rot = 3 + argmaxAbs(torque);
+            r.rotation_label[i] = static_cast<int8_t>(rot);
+            r.counts[rot] += w;
+        }
+        r.used_by_type[static_cast<size_t>(c.type) % 3]++;
+
+        Vec6d J;
+        J << normal, torque;
+        if (params.keep_jacobians) r.jacobians[i] = J;
+        // Paper eq. (5)-(6): C = sum J_i J_i^T (weighted like the labels).
+        if (params.hessian_eigen) r.hessian.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+    }
+
+    // Paper eq. (7)-(8), per group (DESIGN §5), and the 0.2 rule of §III-B.
+    groupConfidence(r.counts, 0, r.gamma);
+    groupConfidence(r.counts, 3, r.gamma);
+    for (int k = 0; k < 6; ++k) r.degenerate[k] = r.gamma[k] < params.degenerate_threshold;
+
+    if (params.hessian_eigen) {
+        r.hessian = r.hessian.selfadjointView<Eigen::Lower>();
+        const Eigen::SelfAdjointEigenSolver<Mat6d> es(r.hessian);
+        r.eigenvalues = es.eigenvalues();
+        r.eigenvectors = es.eigenvectors();
+        r.condition_number = r.eigenvalues[0] > 0 ? r.eigenvalues[5] / r.eigenvalues[0]
+                                                  : std::numeric_limits<double>::infinity();
+    }
+    return r;
+}
+
+std::string degenerateAxes(const RiskReport& report) {
+    std::string s;
+    for (int k = 0; k < 6; ++k)
+        if (report.degenerate[k]) s += kAxisNames[k];
+    return s;
+}
+
+std::array<uint8_t, 3> observabilityColor(int translation_label) {
+    switch (translation_label) {
+        case 0: return {255, 0, 0};
+        case 1: return {0, 255, 0};
+        case 2: return {0, 0, 255};
+        default: return {128, 128, 128};
+    }
+}
+
+}  // namespace superloc::risk

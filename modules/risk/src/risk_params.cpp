@@ -1,0 +1,35 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/risk/alignment_risk.h>
+
+#include <cmath>
+
+namespace superloc::risk {
+
+void RiskParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    MRPT_LOAD_CONFIG_VAR(degenerate_threshold, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(weighted_labels, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(keep_jacobians, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(hessian_eigen, bool, c, s);
+}
+
+void RiskParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        degenerate_threshold, "[-] an axis with confidence gamma below this is degenerate (paper: 0.2)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        weighted_labels, "[bool] a label counts its correspondence's fit weight instead of 1");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        keep_jacobians, "[bool] keep the per-correspondence Jacobian rows in the report");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        hessian_eigen, "[bool] also compute the classic Hessian eigenvalues (comparison only)");
+}
+
+void RiskParams::validate() const {
+    if (!std::isfinite(degenerate_threshold) || degenerate_threshold < 0 ||
+        degenerate_threshold > 1)
+        throw ConfigError(
+            "[risk] degenerate_threshold = " + std::to_string(degenerate_threshold) +
+            " must be in [0, 1] (gamma is a ratio in [0, 1]; the paper uses 0.2)");
+}
+
+}  // namespace superloc::risk

@@ -1,0 +1,168 @@
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <superloc/core/config.h>
+#include <superloc/risk/alignment_risk.h>
+
+#include <cmath>
+#include <limits>
+
+#include "scenes.h"
+
+using namespace superloc;
+using namespace superloc::risk;
+using superloc::risk::testing::AxisPlane;
+using superloc::risk::testing::castScene;
+
+namespace {
+Correspondence corr(Vec3d p, Vec3d n, double w = 1.0) {
+    Correspondence c;
+    c.p = p;
+    c.n = n;
+    c.weight = w;
+    return c;
+}
+std::string flags(const std::vector<Correspondence>& cs) {
+    return degenerateAxes(computeAlignmentRisk(cs, RiskParams{}));
+}
+}  // namespace
+
+// Hand-computed: three correspondences.
+//  a: p=(2,0,0)  n=(0,0,1)  -> t label z; p x n = (0*1-0*0, 0*0-2*1, 0) = (0,-2,0) -> pitch
+//  b: p=(0,3,0)  n=(0,0,1)  -> z;         p x n = (3,0,0)                        -> roll
+//  c: p=(0,3,0)  n=(1,0,0)  -> x;         p x n = (3*0-0*0, 0*1-0*0, 0*0-3*1) = (0,0,-3) -> yaw
+// Translation: N=(1,0,2) -> gamma = (3*1/3, 0, min(1, 3*2/3)) = (1, 0, 1).
+// Rotation: N=(1,1,1) -> gamma = (1,1,1). Only y is degenerate.
+TEST(AlignmentRisk, HandComputedLabelsAndGamma) {
+    RiskParams prm;
+    prm.keep_jacobians = true;
+    const auto r = computeAlignmentRisk(
+        {corr({2, 0, 0}, {0, 0, 1}), corr({0, 3, 0}, {0, 0, 1}), corr({0, 3, 0}, {1, 0, 0})}, prm);
+    EXPECT_EQ(r.translation_label, (std::vector<int8_t>{2, 2, 0}));
+    EXPECT_EQ(r.rotation_label, (std::vector<int8_t>{4, 3, 5}));
+    Vec6d counts;
+    counts << 1, 0, 2, 1, 1, 1;
+    EXPECT_TRUE(r.counts.isApprox(counts));
+    Vec6d gamma;
+    gamma << 1, 0, 1, 1, 1, 1;
+    EXPECT_TRUE(r.gamma.isApprox(gamma)) << r.gamma.transpose();
+    EXPECT_EQ(degenerateAxes(r), "y");
+    ASSERT_EQ(r.jacobians.size(), 3u);
+    Vec6d j2;
+    j2 << 1, 0, 0, 0, 0, -3;
+    EXPECT_TRUE(r.jacobians[2].isApprox(j2));
+    // H = sum J J^T: H(y,y) = 0 (no normal has a y part), H(yaw,yaw) = 9, H(pitch,pitch) = 4.
+    EXPECT_DOUBLE_EQ(r.hessian(1, 1), 0.0);
+    EXPECT_DOUBLE_EQ(r.hessian(5, 5), 9.0);
+    EXPECT_DOUBLE_EQ(r.hessian(4, 4), 4.0);
+    EXPECT_NEAR(r.eigenvalues[0], 0.0, 1e-9);
+    EXPECT_TRUE(std::isinf(r.condition_number));
+}
+
+// Weighted counts: two z-labels of weight 0.5 and 0.1 and one x-label of weight 1:
+// N = (1, 0, 0.6); gamma_x = min(1, 3/1.6) = 1, gamma_z = 3*0.6/1.6 = 1.125 -> 1, gamma_y = 0.
+// Unweighted, the same set gives N = (1, 0, 2).
+TEST(AlignmentRisk, WeightsCountFractionally) {
+    const std::vector<Correspondence> cs = {
+        corr({1, 1, 0}, {0, 0, 1}, 0.5), corr({1, 2, 0}, {0, 0, 1}, 0.1),
+        corr({0, 1, 1}, {1, 0, 0}, 1.0)};
+    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    EXPECT_NEAR(r.counts[0], 1.0, 1e-12);
+    EXPECT_NEAR(r.counts[2], 0.6, 1e-12);
+    EXPECT_NEAR(r.gamma[2], 1.0, 1e-12);
+    // Four x labels of weight 1 and one z of weight 0.1: gamma_z = 3*0.1/4.1 = 0.0732 < 0.2.
+    std::vector<Correspondence> cs2(4, corr({0, 1, 1}, {1, 0, 0}, 1.0));
+    cs2.push_back(corr({1, 1, 0}, {0, 0, 1}, 0.1));
+    EXPECT_NEAR(computeAlignmentRisk(cs2, RiskParams{}).gamma[2], 0.3 / 4.1, 1e-12);
+    RiskParams unweighted;
+    unweighted.weighted_labels = false;
+    EXPECT_NEAR(computeAlignmentRisk(cs2, unweighted).gamma[2], 3.0 / 5.0, 1e-12);
+}
+
+TEST(AlignmentRisk, EmptyAndInvalidInputAreAllDegenerate) {
+    const auto empty = computeAlignmentRisk({}, RiskParams{});
+    EXPECT_TRUE(empty.gamma.isZero());
+    EXPECT_EQ(degenerateAxes(empty), "xyzrollpitchyaw");
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto bad = computeAlignmentRisk(
+        {corr({nan, 0, 0}, {0, 0, 1}), corr({1, 0, 0}, {0, 0, 0}), corr({1, 0, 0}, {0, 0, 1}, 0)},
+        RiskParams{});
+    EXPECT_EQ(bad.skipped, 3u);
+    EXPECT_EQ(bad.translation_label, (std::vector<int8_t>(3, kNoLabel)));
+    EXPECT_TRUE(bad.counts.isZero());
+}
+
+// A point straight below the sensor on the floor has p parallel to n: no lever arm, no
+// rotation label; its translation label still counts.
+TEST(AlignmentRisk, ZeroLeverArmHasNoRotationLabel) {
+    const auto r = computeAlignmentRisk({corr({0, 0, -2}, {0, 0, 1})}, RiskParams{});
+    EXPECT_EQ(r.translation_label[0], 2);
+    EXPECT_EQ(r.rotation_label[0], kNoLabel);
+    EXPECT_EQ(r.gamma[2], 1.0);
+    EXPECT_EQ(r.gamma.tail<3>().sum(), 0.0);
+}
+
+// An infinite floor 1.8 m below the sensor: every normal is z; p x n = (y, -x, 0) never has a
+// yaw part. Degenerate: x, y, yaw. Healthy: z, roll, pitch.
+TEST(AlignmentRisk, InfinitePlaneIsDegenerateInXYYaw) {
+    const auto cs = castScene({{2, -1.8}}, 360, 32, -45, -5, 1e6);
+    ASSERT_GT(cs.size(), 1000u);
+    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    EXPECT_EQ(degenerateAxes(r), "xyyaw");
+    EXPECT_EQ(r.gamma[2], 1.0);
+    EXPECT_GT(r.gamma[3], 0.9);
+    EXPECT_GT(r.gamma[4], 0.9);
+    EXPECT_EQ(r.counts[5], 0.0);
+    // The classic analysis agrees: three zero eigenvalues (x, y, yaw).
+    EXPECT_NEAR(r.eigenvalues[2] / r.eigenvalues[5], 0.0, 1e-9);
+    EXPECT_GT(r.eigenvalues[3], 1.0);
+}
+
+// A corridor along x: walls at y = -1.5, +1.6, floor at z = -1.2, ceiling at z = +1.4, open ends
+// (returns up to 30 m). Only x is degenerate.
+TEST(AlignmentRisk, CorridorIsDegenerateInXOnly) {
+    const auto cs = castScene({{1, -1.5}, {1, 1.6}, {2, -1.2}, {2, 1.4}});
+    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    EXPECT_EQ(degenerateAxes(r), "x") << r.gamma.transpose();
+    EXPECT_EQ(r.counts[0], 0.0);
+    EXPECT_GT(r.gamma.tail<5>().minCoeff(), 0.2);
+}
+
+// A 12 x 9 x 3 m room, sensor off-centre: nothing degenerate, and a well-conditioned Hessian.
+TEST(AlignmentRisk, BoxRoomHasNoDegenerateAxis) {
+    const auto cs = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}});
+    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    EXPECT_EQ(degenerateAxes(r), "") << r.gamma.transpose();
+    EXPECT_FALSE(r.anyDegenerate());
+    EXPECT_GT(r.gamma.minCoeff(), 0.3);
+    EXPECT_GT(r.eigenvalues[0], 1.0);
+    EXPECT_EQ(r.used_by_type[2], cs.size());
+}
+
+// The labels are not rotation-invariant (a property of the paper's method): the same corridor
+// turned 90 deg about z is degenerate in y instead.
+TEST(AlignmentRisk, AxesFollowTheInputFrame) {
+    EXPECT_EQ(flags(castScene({{0, -1.5}, {0, 1.6}, {2, -1.2}, {2, 1.4}})), "y");
+}
+
+TEST(AlignmentRisk, ObservabilityColours) {
+    EXPECT_EQ(observabilityColor(0), (std::array<uint8_t, 3>{255, 0, 0}));
+    EXPECT_EQ(observabilityColor(1), (std::array<uint8_t, 3>{0, 255, 0}));
+    EXPECT_EQ(observabilityColor(2), (std::array<uint8_t, 3>{0, 0, 255}));
+    EXPECT_EQ(observabilityColor(kNoLabel), (std::array<uint8_t, 3>{128, 128, 128}));
+}
+
+TEST(RiskParams, LoadsValidatesAndSaves) {
+    mrpt::config::CConfigFileMemory c("[risk]\ndegenerate_threshold = 0.25\nweighted_labels=false\n");
+    const auto p = loadParams<RiskParams>(c, "risk", "t.ini");
+    EXPECT_DOUBLE_EQ(p.degenerate_threshold, 0.25);
+    EXPECT_FALSE(p.weighted_labels);
+    mrpt::config::CConfigFileMemory bad("[risk]\ndegenerate_threshold = 1.5\n");
+    EXPECT_THROW(loadParams<RiskParams>(bad, "risk", "t.ini"), ConfigError);
+    mrpt::config::CConfigFileMemory typo("[risk]\ndegenerate_treshold = 0.2\n");
+    EXPECT_THROW(loadParams<RiskParams>(typo, "risk", "t.ini"), ConfigError);
+    mrpt::config::CConfigFileMemory out;
+    RiskParams{}.saveToConfigFile(out, "risk");
+    // What saveToConfigFile writes (padded, commented) loads back through the strict loader.
+    out.write("risk", "degenerate_threshold", "0.3");
+    EXPECT_DOUBLE_EQ(loadParams<RiskParams>(out, "risk", "saved").degenerate_threshold, 0.3);
+}
