@@ -1,0 +1,120 @@
+#include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+#include <superloc/core/se3.h>
+#include <superloc/imu/preintegration.h>
+#include <superloc/imu/rest_init.h>
+
+#include <cmath>
+
+using namespace superloc;
+using namespace superloc::imu;
+
+namespace {
+const Vec3d kG(0, 0, -9.81);
+
+// Analytic trajectory: constant body rate w_b (so R(t) = R0 Exp(w_b t) and the gyro reads w_b
+// exactly) and a smooth position whose acceleration is known in closed form.
+struct Analytic {
+    Mat3d R0 = makePoseRPY(0, 0, 0, 0.1, -0.2, 0.3).linear();
+    Vec3d w_b = Vec3d(0.3, -0.5, 0.8);
+    Mat3d R(double t) const { return R0 * expSO3(w_b * t); }
+    Vec3d p(double t) const { return {std::sin(t), std::cos(2 * t), 0.15 * t * t}; }
+    Vec3d v(double t) const { return {std::cos(t), -2 * std::sin(2 * t), 0.3 * t}; }
+    Vec3d a(double t) const { return {-std::sin(t), -4 * std::cos(2 * t), 0.3}; }
+    // Specific force in the body frame: R^T (a - g).
+    Vec3d acc(double t) const { return R(t).transpose() * (a(t) - kG); }
+};
+
+std::vector<ImuSample> sampleAnalytic(const Analytic& tr, double t0, double t1, double rate,
+                                      const ImuBias& bias = {}) {
+    std::vector<ImuSample> out;
+    const double dt = 1.0 / rate;
+    for (double t = t0; t < t1 - 1e-12; t += dt) {
+        ImuSample s;
+        s.t = t;
+        // The value held over [t, t+dt) is taken at the midpoint: second-order accurate.
+        s.acc = tr.acc(t + 0.5 * dt) + bias.acc;
+        s.gyro = tr.w_b + bias.gyro;
+        out.push_back(s);
+    }
+    return out;
+}
+}  // namespace
+
+TEST(Preintegration, MatchesAnalyticTrajectory) {
+    Analytic tr;
+    const double t0 = 0.2, t1 = 1.2;
+    const auto samples = sampleAnalytic(tr, t0, t1, 1000);
+    Preintegration pre;
+    ASSERT_EQ(integrateInterval(samples, t0, t1, pre), samples.size());
+    EXPECT_NEAR(pre.dt(), 1.0, 1e-9);
+    NavState s0;
+    s0.R = tr.R(t0);
+    s0.p = tr.p(t0);
+    s0.v = tr.v(t0);
+    const NavState s1 = pre.predict(s0, ImuBias{}, kG);
+    EXPECT_LT((s1.p - tr.p(t1)).norm(), 2e-4) << s1.p.transpose() << " vs " << tr.p(t1).transpose();
+    EXPECT_LT((s1.v - tr.v(t1)).norm(), 2e-4);
+    EXPECT_LT(logSO3(s1.R.transpose() * tr.R(t1)).norm(), 1e-9);
+}
+
+TEST(Preintegration, BiasCorrectionMatchesReintegration) {
+    Analytic tr;
+    const ImuBias b_true{Vec3d(0.05, -0.03, 0.08), Vec3d(0.004, 0.002, -0.003)};
+    const auto samples = sampleAnalytic(tr, 0, 0.5, 500, b_true);
+    // Integrated with the wrong (zero) bias, then first-order corrected to the true one...
+    Preintegration pre_wrong;
+    integrateInterval(samples, 0, 0.5, pre_wrong);
+    // ...must be close to integrating with the true bias from the start.
+    Preintegration pre_true(b_true);
+    integrateInterval(samples, 0, 0.5, pre_true);
+    const Mat3d dR = pre_wrong.correctedDeltaR(b_true);
+    EXPECT_LT(logSO3(dR.transpose() * pre_true.deltaR()).norm(), 1e-6);
+    EXPECT_LT((pre_wrong.correctedDeltaV(b_true) - pre_true.deltaV()).norm(), 2e-4);
+    EXPECT_LT((pre_wrong.correctedDeltaP(b_true) - pre_true.deltaP()).norm(), 5e-5);
+    // And without the correction the error is much larger (the test can fail).
+    EXPECT_GT((pre_wrong.deltaP() - pre_true.deltaP()).norm(), 5e-3);
+    EXPECT_GT((pre_wrong.deltaV() - pre_true.deltaV()).norm(), 2e-2);
+}
+
+TEST(Preintegration, CovarianceOfStillSensorGrowsAsRandomWalk) {
+    ImuNoise noise{0.02, 0.002};
+    Preintegration pre({}, noise);
+    for (int k = 0; k < 200; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.005);
+    const Mat9d& c = pre.covariance();
+    EXPECT_LT((c - c.transpose()).norm(), 1e-15);
+    // Rotation: sigma_g^2 * T; velocity (x): sigma_a^2 * T plus tilt coupling; both positive.
+    EXPECT_NEAR(c(0, 0), noise.gyro * noise.gyro * 1.0, 1e-9);
+    EXPECT_NEAR(c(5, 5), noise.acc * noise.acc * 1.0, 1e-9);  // vz: no gravity coupling
+    EXPECT_GT(c(3, 3), noise.acc * noise.acc * 1.0);          // vx: + g^2 * tilt variance
+    Eigen::SelfAdjointEigenSolver<Mat9d> es(c);
+    EXPECT_GT(es.eigenvalues().minCoeff(), 0.0);
+}
+
+TEST(Preintegration, IntervalIsCutAtBothEnds) {
+    std::vector<ImuSample> s;
+    for (int k = 0; k < 100; ++k) s.push_back({0.01 * k, Vec3d(1, 0, 0), Vec3d::Zero()});
+    Preintegration pre;
+    integrateInterval(s, 0.105, 0.505, pre);
+    EXPECT_NEAR(pre.dt(), 0.4, 1e-12);
+    EXPECT_NEAR(pre.deltaV().x(), 0.4, 1e-12);
+    EXPECT_NEAR(pre.deltaP().x(), 0.5 * 0.4 * 0.4, 1e-12);
+    Preintegration none;
+    EXPECT_EQ(integrateInterval({}, 0, 1, none), 0u);
+}
+
+TEST(RestInit, FindsGyroBiasAndUpDirection) {
+    ImuParams p;
+    std::vector<ImuSample> s;
+    const Mat3d R = makePoseRPY(0, 0, 0, 0.05, -0.04, 1.0).linear();  // R_map_imu
+    for (int k = 0; k < 200; ++k)
+        s.push_back({0.005 * k, R.transpose() * Vec3d(0, 0, 9.81), Vec3d(0.01, -0.02, 0.005)});
+    const auto r = initAtRest(s, 0, p);
+    ASSERT_TRUE(r.at_rest);
+    EXPECT_LT((r.bias.gyro - Vec3d(0.01, -0.02, 0.005)).norm(), 1e-12);
+    EXPECT_LT(tiltDisagreement(r, R), 1e-9);
+    EXPECT_NEAR(tiltDisagreement(r, Mat3d::Identity()), std::hypot(0.05, 0.04), 2e-3);
+    // A moving sensor is not at rest.
+    for (auto& x : s) x.gyro = Vec3d(0, 0, 0.5);
+    EXPECT_FALSE(initAtRest(s, 0, p).at_rest);
+}
