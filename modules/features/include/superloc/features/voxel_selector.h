@@ -1,0 +1,35 @@
+// Range filtering and voxel selection of a scan, allocation-free across frames: an
+// open-addressing hash table that keeps its storage between calls (the per-frame hot path of
+// the localizer; core's voxelDownsample is the general-purpose, allocating one).
+#pragma once
+
+#include <superloc/core/types.h>
+
+#include <cstdint>
+#include <vector>
+
+namespace superloc::features {
+
+/// Indices of the finite points whose range lies in [min_range, max_range], appended to `out`
+/// (which is cleared first).
+void rangeFilter(const std::vector<Vec3f>& points, float min_range, float max_range,
+                 std::vector<uint32_t>& out);
+
+class VoxelSelector {
+   public:
+    /// From the candidate indices, keeps the first point of every occupied voxel of size
+    /// `voxel` (input order, so the result is deterministic and follows the firing order).
+    /// `out` is cleared first.
+    void select(const std::vector<Vec3f>& points, const std::vector<uint32_t>& candidates,
+                float voxel, std::vector<uint32_t>& out);
+
+   private:
+    std::vector<uint64_t> keys_;
+    std::vector<uint8_t> used_;
+};
+
+/// At most `max_count` of `idx`, evenly strided over it (keeps the spatial spread of a
+/// firing-ordered list); `out` is cleared first.
+void takeEvenly(const std::vector<uint32_t>& idx, size_t max_count, std::vector<uint32_t>& out);
+
+}  // namespace superloc::features

@@ -1,0 +1,111 @@
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <superloc/core/config.h>
+#include <superloc/core/se3.h>
+#include <superloc/features/classify.h>
+#include <superloc/features/deskew.h>
+#include <superloc/features/features_params.h>
+#include <superloc/features/voxel_selector.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+
+using namespace superloc;
+using namespace superloc::features;
+
+TEST(Deskew, UndoesFastRotationAndTranslation) {
+    // A sensor spinning at 3 rad/s (172 deg/s) in yaw, rolling a bit and driving 10 m/s during a
+    // 0.1 s sweep; points are a box room seen from inside, measured at their own times.
+    const Vec3d v(10, 0.5, 0), w(0.2, -0.1, 3.0);
+    const double period = 0.1;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<Vec3f> world_end, measured;
+    std::vector<float> rel;
+    const int n = 3000;
+    for (int i = 0; i < n; ++i) {
+        const double s = -period + period * i / (n - 1);  // firing order
+        const double az = 2 * M_PI * i / n;
+        const Vec3d dir(std::cos(az), std::sin(az), 0.3 * u(rng));
+        const Vec3d P = dir.normalized() * (8 + 2 * u(rng));  // true point, end frame
+        // Sensor pose at s relative to the end: T_end_s = (Exp(w s), v s); measured in frame s.
+        const Mat3d R = expSO3(w * s);
+        const Vec3d p = R.transpose() * (P - v * s);
+        world_end.push_back(P.cast<float>());
+        measured.push_back(p.cast<float>());
+        rel.push_back(static_cast<float>(s));
+    }
+    std::vector<uint32_t> idx(n);
+    for (int i = 0; i < n; ++i) idx[i] = i;
+    std::vector<Vec3f> out;
+    deskewPoints(measured, rel, idx, SweepMotion::fromTwist(v, w, period), out);
+    double max_err = 0, max_raw = 0;
+    for (int i = 0; i < n; ++i) {
+        max_err = std::max(max_err, double((out[i] - world_end[i]).norm()));
+        max_raw = std::max(max_raw, double((measured[i] - world_end[i]).norm()));
+    }
+    EXPECT_LT(max_err, 3e-3) << "deskewed";
+    EXPECT_GT(max_raw, 1.0) << "the skew itself must be large for the test to mean anything";
+
+    // No per-point time: points pass unchanged.
+    deskewPoints(measured, {}, idx, SweepMotion::fromTwist(v, w, period), out);
+    EXPECT_EQ(out[5], measured[5]);
+}
+
+TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
+    std::vector<Vec3f> pts = {{0.1f, 0.1f, 0.1f}, {0.2f, 0.2f, 0.2f}, {1.1f, 0.1f, 0.1f},
+                              {-0.1f, 0.1f, 0.1f}, {0.3f, 0.1f, 0.4f}, {1.2f, 0.2f, 0.3f}};
+    std::vector<uint32_t> all = {0, 1, 2, 3, 4, 5}, out;
+    VoxelSelector sel;
+    sel.select(pts, all, 0.5f, out);
+    EXPECT_EQ(out, (std::vector<uint32_t>{0, 2, 3}));
+    // Storage is reused: a second call gives the same answer.
+    sel.select(pts, all, 0.5f, out);
+    EXPECT_EQ(out, (std::vector<uint32_t>{0, 2, 3}));
+    // Large random cloud: every kept point in a distinct voxel, every voxel represented.
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-20, 20);
+    std::vector<Vec3f> big(50000);
+    std::vector<uint32_t> idx(big.size());
+    for (size_t i = 0; i < big.size(); ++i) big[i] = Vec3f(u(rng), u(rng), u(rng) * 0.1f), idx[i] = i;
+    sel.select(big, idx, 2.0f, out);
+    std::set<std::tuple<int, int, int>> cells, kept;
+    for (const auto& p : big)
+        cells.insert({int(std::floor(p.x() / 2)), int(std::floor(p.y() / 2)), int(std::floor(p.z() / 2))});
+    for (uint32_t i : out)
+        kept.insert({int(std::floor(big[i].x() / 2)), int(std::floor(big[i].y() / 2)),
+                     int(std::floor(big[i].z() / 2))});
+    EXPECT_EQ(kept.size(), out.size());
+    EXPECT_EQ(kept, cells);
+}
+
+TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {
+    std::vector<Vec3f> pts = {{0.5f, 0, 0}, {5, 0, 0}, {NAN, 0, 0}, {200, 0, 0}, {0, 3, 4}};
+    std::vector<uint32_t> out;
+    rangeFilter(pts, 1.0f, 100.0f, out);
+    EXPECT_EQ(out, (std::vector<uint32_t>{1, 4}));
+    std::vector<uint32_t> idx(100), few;
+    for (uint32_t i = 0; i < 100; ++i) idx[i] = i;
+    takeEvenly(idx, 10, few);
+    ASSERT_EQ(few.size(), 10u);
+    EXPECT_EQ(few.front(), 0u);
+    EXPECT_EQ(few[5], 50u);
+    takeEvenly(idx, 1000, few);
+    EXPECT_EQ(few.size(), 100u);
+}
+
+TEST(Classify, PlaneLinePoint) {
+    EXPECT_EQ(classifyShape(0.9f, 0.05f, 0.5, 0.7), FeatureType::Plane);
+    EXPECT_EQ(classifyShape(0.1f, 0.85f, 0.5, 0.7), FeatureType::Line);
+    EXPECT_EQ(classifyShape(0.3f, 0.3f, 0.5, 0.7), FeatureType::Point);
+}
+
+TEST(FeaturesParams, RejectsBadValues) {
+    mrpt::config::CConfigFileMemory bad("[features]\nvoxel_size = 0\n");
+    EXPECT_THROW(loadParams<FeaturesParams>(bad, "features", "t.ini"), ConfigError);
+    mrpt::config::CConfigFileMemory good("[features]\nvoxel_size = 0.8\nmax_features=500\n");
+    const auto p = loadParams<FeaturesParams>(good, "features", "t.ini");
+    EXPECT_DOUBLE_EQ(p.voxel_size, 0.8);
+    EXPECT_EQ(p.max_features, 500);
+}
