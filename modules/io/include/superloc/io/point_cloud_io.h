@@ -8,7 +8,8 @@
 
 namespace superloc::io {
 
-enum class CloudFormat { Auto, PcdBinary, PcdAscii, Ply, KittiBin, Text };
+/// Ply is written binary little-endian; PlyAscii writes ASCII PLY (both are read as Ply).
+enum class CloudFormat { Auto, PcdBinary, PcdAscii, Ply, KittiBin, Text, PlyAscii };
 
 /// Loads a point cloud; the format is chosen by extension (.pcd .ply .bin .txt .xyz) unless
 /// given. NaN/inf points are dropped and counted in `dropped` (if not null). Throws
@@ -21,5 +22,12 @@ PointCloud loadPointCloud(
 /// .pcd is written binary. Throws std::runtime_error naming the file on failure.
 void savePointCloud(
     const std::string& path, const PointCloud& cloud, CloudFormat format = CloudFormat::Auto);
+
+/// The format chosen for a path by extension (case-insensitive); throws naming the file when
+/// the extension is unknown.
+CloudFormat formatFromExtension(const std::string& path);
+
+/// Removes points with a NaN/inf coordinate (and their attributes); returns how many.
+size_t dropNonFinite(PointCloud& cloud);
 
 }  // namespace superloc::io

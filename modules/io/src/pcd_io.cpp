@@ -1,0 +1,139 @@
+// PCD read/write through PCL (MRPT 2.5.8's loadPCDFile returns no points: NOTES-platform).
+// Fields are mapped by name from a PCLPointCloud2, so any PCD with x y z [intensity]
+// [normal_x normal_y normal_z] [rgb|rgba] and any numeric type loads.
+#include <pcl/PCLPointCloud2.h>
+#include <pcl/console/print.h>
+#include <pcl/io/pcd_io.h>
+
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+
+#include "cloud_formats.h"
+
+namespace superloc::io::detail {
+
+namespace {
+
+void quietPcl() { pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS); }
+
+const pcl::PCLPointField* findField(const pcl::PCLPointCloud2& c, const char* name) {
+    for (const auto& f : c.fields)
+        if (f.name == name) return &f;
+    return nullptr;
+}
+
+/// Reads field `f` of the point starting at `p` as a float, whatever its stored type.
+float readAs(const uint8_t* p, const pcl::PCLPointField& f) {
+    using T = pcl::PCLPointField::PointFieldTypes;
+    p += f.offset;
+    switch (f.datatype) {
+        case T::INT8: { int8_t v; std::memcpy(&v, p, 1); return v; }
+        case T::UINT8: return *p;
+        case T::INT16: { int16_t v; std::memcpy(&v, p, 2); return v; }
+        case T::UINT16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
+        case T::INT32: { int32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
+        case T::UINT32: { uint32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
+        case T::FLOAT32: { float v; std::memcpy(&v, p, 4); return v; }
+        case T::FLOAT64: { double v; std::memcpy(&v, p, 8); return static_cast<float>(v); }
+        default: return 0;
+    }
+}
+
+}  // namespace
+
+PointCloud readPcd(const std::string& path) {
+    quietPcl();
+    pcl::PCLPointCloud2 pc;
+    int rc = -1;
+    try {
+        rc = pcl::io::loadPCDFile(path, pc);
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": corrupt PCD file (" + std::string(e.what()) + ")");
+    }
+    if (rc < 0) throw std::runtime_error(path + ": corrupt or truncated PCD file (PCL could not read it)");
+    const auto *fx = findField(pc, "x"), *fy = findField(pc, "y"), *fz = findField(pc, "z");
+    if (!fx || !fy || !fz) throw std::runtime_error(path + ": PCD file has no x y z fields");
+    const size_t n = static_cast<size_t>(pc.width) * pc.height;
+    if (pc.data.size() < n * pc.point_step)
+        throw std::runtime_error(path + ": truncated PCD file (fewer data bytes than points)");
+    const auto* fi = findField(pc, "intensity");
+    const auto *nx = findField(pc, "normal_x"), *ny = findField(pc, "normal_y"),
+               *nz = findField(pc, "normal_z");
+    const auto* frgb = findField(pc, "rgb");
+    if (!frgb) frgb = findField(pc, "rgba");
+    PointCloud c;
+    c.points.resize(n);
+    if (fi) c.intensity.resize(n);
+    const bool has_n = nx && ny && nz;
+    if (has_n) c.normals.resize(n);
+    if (frgb) c.rgb.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const uint8_t* p = pc.data.data() + i * pc.point_step;
+        c.points[i] = Vec3f(readAs(p, *fx), readAs(p, *fy), readAs(p, *fz));
+        if (fi) c.intensity[i] = readAs(p, *fi);
+        if (has_n) c.normals[i] = Vec3f(readAs(p, *nx), readAs(p, *ny), readAs(p, *nz));
+        if (frgb) {
+            uint32_t v;
+            std::memcpy(&v, p + frgb->offset, 4);
+            c.rgb[i] = {uint8_t((v >> 16) & 0xff), uint8_t((v >> 8) & 0xff), uint8_t(v & 0xff)};
+        }
+    }
+    return c;
+}
+
+void writePcd(const std::string& path, const PointCloud& c, bool binary) {
+    quietPcl();
+    pcl::PCLPointCloud2 pc;
+    std::vector<std::string> names = {"x", "y", "z"};
+    if (!c.intensity.empty()) names.push_back("intensity");
+    if (!c.normals.empty()) names.insert(names.end(), {"normal_x", "normal_y", "normal_z"});
+    for (size_t k = 0; k < names.size(); ++k) {
+        pcl::PCLPointField f;
+        f.name = names[k];
+        f.offset = static_cast<uint32_t>(4 * k);
+        f.datatype = pcl::PCLPointField::FLOAT32;
+        f.count = 1;
+        pc.fields.push_back(f);
+    }
+    if (!c.rgb.empty()) {
+        pcl::PCLPointField f;
+        f.name = "rgb";
+        f.offset = static_cast<uint32_t>(4 * names.size());
+        f.datatype = pcl::PCLPointField::UINT32;  // packed 0x00RRGGBB
+        f.count = 1;
+        pc.fields.push_back(f);
+    }
+    const size_t nf = pc.fields.size();
+    pc.point_step = static_cast<uint32_t>(4 * nf);
+    pc.width = static_cast<uint32_t>(c.size());
+    pc.height = 1;
+    pc.row_step = pc.point_step * pc.width;
+    pc.is_dense = true;
+    pc.data.resize(static_cast<size_t>(pc.row_step));
+    for (size_t i = 0; i < c.size(); ++i) {
+        float v[7];
+        size_t k = 0;
+        for (int d = 0; d < 3; ++d) v[k++] = c.points[i][d];
+        if (!c.intensity.empty()) v[k++] = c.intensity[i];
+        if (!c.normals.empty())
+            for (int d = 0; d < 3; ++d) v[k++] = c.normals[i][d];
+        uint8_t* p = pc.data.data() + i * pc.point_step;
+        std::memcpy(p, v, 4 * k);
+        if (!c.rgb.empty()) {
+            const uint32_t rgb = (uint32_t(c.rgb[i][0]) << 16) | (uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
+            std::memcpy(p + 4 * k, &rgb, 4);
+        }
+    }
+    pcl::PCDWriter w;
+    int rc = -1;
+    try {
+        rc = binary ? w.writeBinary(path, pc) : w.writeASCII(path, pc, Eigen::Vector4f::Zero(),
+                                                            Eigen::Quaternionf::Identity(), 9);
+    } catch (const std::exception& e) {
+        throw std::runtime_error(path + ": cannot write PCD (" + std::string(e.what()) + ")");
+    }
+    if (rc < 0) throw std::runtime_error(path + ": cannot write PCD");
+}
+
+}  // namespace superloc::io::detail

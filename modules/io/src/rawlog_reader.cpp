@@ -1,0 +1,194 @@
+// RawlogReader: streams a rawlog in timestamp order through a bounded re-sort window.
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/COutputLogger.h>
+#include <superloc/core/mrpt_conversions.h>
+#include <superloc/io/rawlog.h>
+
+#include <cmath>
+#include <filesystem>
+#include <queue>
+#include <stdexcept>
+
+#include "obs_to_scan.h"
+
+namespace superloc::io {
+
+double RawlogItem::time() const {
+    return std::visit([](const auto& d) { return d.t; }, data);
+}
+
+namespace {
+struct Pending {
+    double t;
+    size_t seq;  // read order: ties keep the file order
+    RawlogItem item;
+};
+struct Later {
+    bool operator()(const Pending& a, const Pending& b) const {
+        return a.t != b.t ? a.t > b.t : a.seq > b.seq;
+    }
+};
+}  // namespace
+
+struct RawlogReader::Impl : public mrpt::system::COutputLogger {
+    Impl() : mrpt::system::COutputLogger("RawlogReader") {}
+
+    std::string path;
+    RawlogParams params;
+    RawlogStats stats;
+    mrpt::io::CFileGZInputStream file;
+    std::priority_queue<Pending, std::vector<Pending>, Later> heap;
+    size_t entry = 0;  // rawlog entries read so far
+    size_t seq = 0;
+    bool eof = false;
+    double newest = -INFINITY;  // latest timestamp read
+
+    std::string where() const { return path + ": entry " + std::to_string(entry) + ": "; }
+
+    void warnOnce(size_t count, const std::string& what) {
+        if (count == 1) MRPT_LOG_WARN_STREAM(path << ": " << what << " (counted, logged once)");
+    }
+
+    void push(RawlogItem&& item) {
+        const double t = item.time();
+        if (!std::isfinite(t)) throw std::runtime_error(where() + "observation without a valid timestamp");
+        if (t < newest - params.reorder_window - 1e-9)
+            throw std::runtime_error(
+                where() + "timestamp goes backwards by " + std::to_string(newest - t) +
+                " s, more than [rawlog] reorder_window = " + std::to_string(params.reorder_window) +
+                " s");
+        newest = std::max(newest, t);
+        heap.push(Pending{t, seq++, std::move(item)});
+    }
+
+    void handle(const mrpt::obs::CObservation& obs) {
+        using namespace mrpt::obs;
+        RawlogItem item;
+        Scan scan;
+        const size_t invalid_before = stats.invalid_points;
+        const auto conv = detail::lidarFromObservation(obs, params, scan, stats.invalid_points);
+        if (conv == detail::LidarConversion::Unsupported) {
+            warnOnce(++stats.unknown_observations,
+                     "CObservationRotatingScan of a model without known beam angles skipped");
+        } else if (conv == detail::LidarConversion::Ok) {
+            if (invalid_before == 0 && stats.invalid_points > 0)
+                warnOnce(1, "NaN/inf points dropped from scans");
+            if (!params.lidar_label.empty() && scan.label != params.lidar_label) {
+                ++stats.skipped_labels;
+                return;
+            }
+            if (scan.empty()) {
+                warnOnce(++stats.empty_scans, "LiDAR observation (" + std::string(obs.GetRuntimeClass()->className) + ") without valid points skipped");
+                return;
+            }
+            ++stats.lidar;
+            item.kind = RawlogItem::Kind::Lidar;
+            item.data = std::move(scan);
+            push(std::move(item));
+        } else if (const auto* imu = dynamic_cast<const CObservationIMU*>(&obs)) {
+            if (!params.imu_label.empty() && imu->sensorLabel != params.imu_label) {
+                ++stats.skipped_labels;
+                return;
+            }
+            ImuSample s;
+            s.t = mrpt::Clock::toDouble(imu->timestamp);
+            bool ok = true;
+            for (auto idx : {IMU_X_ACC, IMU_Y_ACC, IMU_Z_ACC, IMU_WX, IMU_WY, IMU_WZ})
+                ok = ok && imu->has(idx) && std::isfinite(imu->get(idx));
+            if (!ok) {
+                warnOnce(++stats.invalid_imu, "IMU sample without finite acc+gyro skipped");
+                return;
+            }
+            s.acc = Vec3d(imu->get(IMU_X_ACC), imu->get(IMU_Y_ACC), imu->get(IMU_Z_ACC));
+            s.gyro = Vec3d(imu->get(IMU_WX), imu->get(IMU_WY), imu->get(IMU_WZ));
+            ++stats.imu;
+            item.kind = RawlogItem::Kind::Imu;
+            item.data = s;
+            push(std::move(item));
+        } else if (const auto* rp = dynamic_cast<const CObservationRobotPose*>(&obs)) {
+            const bool is_odom = rp->sensorLabel == params.odom_alt_label;
+            const bool is_gt = rp->sensorLabel == params.gt_label;
+            if (!is_odom && !is_gt) {
+                warnOnce(++stats.other_pose_labels,
+                         "CObservationRobotPose with label '" + rp->sensorLabel +
+                             "' (neither odom_alt_label nor gt_label) skipped");
+                return;
+            }
+            PoseStamped p;
+            p.t = mrpt::Clock::toDouble(rp->timestamp);
+            p.pose = toEigen(rp->pose.mean);
+            p.cov = covFromMrpt(rp->pose.cov);
+            if (!p.pose.matrix().allFinite())
+                throw std::runtime_error(where() + "non-finite pose in '" + rp->sensorLabel + "'");
+            if (is_odom) ++stats.odom_alt; else ++stats.gt;
+            item.kind = is_odom ? RawlogItem::Kind::OdomAlt : RawlogItem::Kind::GroundTruth;
+            item.data = p;
+            push(std::move(item));
+        } else {
+            warnOnce(++stats.unknown_observations,
+                     "observation of unused class " + std::string(obs.GetRuntimeClass()->className) +
+                         " skipped");
+        }
+    }
+
+    /// Reads one rawlog entry: an observation, a sensory frame or an action (ignored). Our
+    /// own loop, because CRawlog's prints a trace and reports a corrupt file as a clean end.
+    void readEntry() {
+        mrpt::serialization::CSerializable::Ptr obj;
+        try {
+            auto arch = mrpt::serialization::archiveFrom(file);
+            arch >> obj;
+        } catch (const mrpt::serialization::CExceptionEOF&) {
+            eof = true;  // clean end: nothing left before the next object's header
+            return;
+        } catch (const std::exception& e) {
+            ++entry;
+            throw std::runtime_error(
+                where() + "corrupt or truncated rawlog: " + detail::firstLine(e.what()));
+        }
+        ++entry;
+        if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
+            handle(*obs);
+        } else if (const auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
+            for (const auto& o : *sf)
+                if (o) handle(*o);
+        } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
+            throw std::runtime_error(
+                where() + "not a rawlog entry: object of class " +
+                std::string(obj ? obj->GetRuntimeClass()->className : "null"));
+        }
+    }
+};
+
+RawlogReader::RawlogReader(const std::string& path, const RawlogParams& params)
+    : impl_(std::make_unique<Impl>()) {
+    params.validate();
+    impl_->path = path;
+    impl_->params = params;
+    if (!std::filesystem::is_regular_file(path))
+        throw std::runtime_error(path + ": rawlog not found");
+    if (!impl_->file.open(path)) throw std::runtime_error(path + ": cannot open rawlog");
+}
+
+RawlogReader::~RawlogReader() = default;
+
+bool RawlogReader::next(RawlogItem& item) {
+    auto& m = *impl_;
+    // Emit the oldest pending item once nothing still unread can be older than it.
+    while (!m.eof && (m.heap.empty() || m.newest - m.heap.top().t <= m.params.reorder_window))
+        m.readEntry();
+    if (m.heap.empty()) return false;
+    item = std::move(const_cast<Pending&>(m.heap.top()).item);
+    m.heap.pop();
+    return true;
+}
+
+const RawlogStats& RawlogReader::stats() const { return impl_->stats; }
+const std::string& RawlogReader::path() const { return impl_->path; }
+
+}  // namespace superloc::io
