@@ -1,0 +1,40 @@
+// The per-frame joint optimisation (paper eq. 12): scan residuals + IMU preintegration factor
+// between the previous and current states + the relative-pose prior, solved with Ceres.
+#pragma once
+
+#include <superloc/fusion/fusion_params.h>
+#include <superloc/fusion/scan_factor.h>
+#include <superloc/fusion/state.h>
+#include <superloc/imu/preintegration.h>
+
+#include <optional>
+
+namespace superloc::fusion {
+
+/// Relative motion of the body from the previous to the current frame measured by odom_alt,
+/// with its 6x6 square-root information in (x y z roll pitch yaw) order (see pose_factors.h).
+struct RelativePosePrior {
+    SE3d delta = SE3d::Identity();  ///< T_imu(prev)_imu(cur)
+    Mat6d sqrt_info = Mat6d::Zero();
+};
+
+struct FrameProblemInputs {
+    FrameState* prev = nullptr;   ///< previous frame (optimised only when `imu` is given)
+    FrameState* cur = nullptr;    ///< current frame, initial guess in, estimate out
+    ScanFactor* scan = nullptr;   ///< not owned; may be null (no scan constraint)
+    const imu::Preintegration* imu = nullptr;  ///< between prev and cur, or null (no IMU)
+    Vec3d g_map = Vec3d(0, 0, -9.81);
+    double acc_bias_rw = 0.001, gyro_bias_rw = 0.0001;  ///< see ImuParams
+    std::optional<RelativePosePrior> prior;
+};
+
+struct SolveSummary {
+    bool usable = false;      ///< Ceres' IsSolutionUsable()
+    int iterations = 0;
+    double initial_cost = 0, final_cost = 0;
+};
+
+/// Builds and solves the problem once (the caller re-associates and calls again).
+SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params);
+
+}  // namespace superloc::fusion

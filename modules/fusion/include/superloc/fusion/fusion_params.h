@@ -1,0 +1,29 @@
+// Parameters of the per-frame Ceres problem; section [fusion] of the INI.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace superloc::fusion {
+
+struct FusionParams : public mrpt::config::CLoadableOptions {
+    double scan_sigma = 0.05;          ///< [m] std of a scan residual (point-to-plane distance)
+    std::string robust_kernel = "cauchy";  ///< none | huber | cauchy (applied as IRLS weights)
+    double kernel_scale = 0.1;         ///< [m] scale of the robust kernel
+    int max_iterations = 8;            ///< Ceres iterations per solve (one solve per association)
+    /// Two-state window: the previous frame's state is optimised too, held by priors with these
+    /// standard deviations (a stand-in for marginalisation); only with IMU.
+    double prev_pose_sigma_xyz = 0.02;      ///< [m]
+    double prev_pose_sigma_rot_deg = 0.2;   ///< [deg]
+    double prev_velocity_sigma = 0.5;       ///< [m/s]
+    double prev_acc_bias_sigma = 0.05;      ///< [m/s^2]
+    double prev_gyro_bias_sigma = 0.002;    ///< [rad/s]
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    /// Throws ConfigError naming [fusion] and the key when a value is out of range.
+    void validate() const;
+};
+
+}  // namespace superloc::fusion

@@ -1,0 +1,137 @@
+#include <superloc/core/se3.h>
+#include <superloc/fusion/pose_manifold.h>
+#include <superloc/fusion/scan_factor.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace superloc::fusion {
+
+using features::FeatureType;
+
+RobustKernel robustKernelFromString(const std::string& s) {
+    if (s == "none") return RobustKernel::None;
+    if (s == "huber") return RobustKernel::Huber;
+    if (s == "cauchy") return RobustKernel::Cauchy;
+    throw std::invalid_argument("unknown robust kernel '" + s + "' (use none, huber or cauchy)");
+}
+
+double robustWeight(RobustKernel kernel, double r, double k) {
+    switch (kernel) {
+        case RobustKernel::Huber: return r <= k ? 1.0 : k / r;
+        case RobustKernel::Cauchy: return 1.0 / (1.0 + (r * r) / (k * k));
+        case RobustKernel::None: break;
+    }
+    return 1.0;
+}
+
+int residualDim(FeatureType t) {
+    return t == FeatureType::Plane ? 1 : t == FeatureType::Line ? 2 : 3;
+}
+
+namespace {
+// Two unit vectors orthogonal to d (and to each other).
+void lineBasis(const Vec3d& d, Vec3d& e1, Vec3d& e2) {
+    const Vec3d a = std::abs(d.x()) < 0.9 ? Vec3d::UnitX() : Vec3d::UnitY();
+    e1 = d.cross(a).normalized();
+    e2 = d.cross(e1);
+}
+}  // namespace
+
+void correspondenceResidual(const ScanCorrespondence& c, const Mat3d& R, const Vec3d& t,
+                            double* r, double* J) {
+    const Vec3d Rp = R * c.p;
+    const Vec3d e = Rp + t - c.q;
+    // dx/d dtheta = -R [p]x ; for a row vector a: a^T (-R [p]x) = (p x (R^T a))^T.
+    const auto row = [&](const Vec3d& a, double* Jrow) {
+        const Vec3d rot = c.p.cross(R.transpose() * a);
+        Jrow[0] = a.x(), Jrow[1] = a.y(), Jrow[2] = a.z();
+        Jrow[3] = rot.x(), Jrow[4] = rot.y(), Jrow[5] = rot.z();
+    };
+    switch (c.type) {
+        case FeatureType::Plane:
+            r[0] = c.n.dot(e);
+            if (J) row(c.n, J);
+            break;
+        case FeatureType::Line: {
+            Vec3d e1, e2;
+            lineBasis(c.n, e1, e2);
+            r[0] = e1.dot(e);
+            r[1] = e2.dot(e);
+            if (J) row(e1, J), row(e2, J + 6);
+            break;
+        }
+        case FeatureType::Point:
+            for (int k = 0; k < 3; ++k) {
+                r[k] = e[k];
+                if (J) row(Vec3d::Unit(k), J + 6 * k);
+            }
+            break;
+    }
+}
+
+double correspondenceError(const ScanCorrespondence& c, const SE3d& T) {
+    double r[3];
+    correspondenceResidual(c, T.linear(), T.translation(), r, nullptr);
+    const int d = residualDim(c.type);
+    double s = 0;
+    for (int k = 0; k < d; ++k) s += r[k] * r[k];
+    return std::sqrt(s);
+}
+
+ScanFactor::ScanFactor(std::vector<ScanCorrespondence> corr, double sigma)
+    : corr_(std::move(corr)), inv_sigma_(1.0 / sigma) {
+    int n = 0;
+    sqrt_w_.resize(corr_.size());
+    for (size_t i = 0; i < corr_.size(); ++i) {
+        n += residualDim(corr_[i].type);
+        sqrt_w_[i] = std::sqrt(std::max(0.0, corr_[i].weight));
+    }
+    set_num_residuals(n);
+    mutable_parameter_block_sizes()->push_back(7);
+}
+
+void ScanFactor::setRobustWeights(const SE3d& T, RobustKernel kernel, double scale) {
+    for (size_t i = 0; i < corr_.size(); ++i) {
+        const double w = std::max(0.0, corr_[i].weight) *
+                         robustWeight(kernel, correspondenceError(corr_[i], T), scale);
+        sqrt_w_[i] = std::sqrt(w);
+    }
+}
+
+bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
+                          double** jacobians) const {
+    const double* x = parameters[0];
+    const Eigen::Quaterniond q(x[6], x[3], x[4], x[5]);
+    const Mat3d R = q.normalized().toRotationMatrix();
+    const Vec3d t(x[0], x[1], x[2]);
+    double* J = (jacobians && jacobians[0]) ? jacobians[0] : nullptr;
+    // Ambient Jacobian of the rotation part: J_theta (1x3) * 2 M(q)^T (3x4), see PoseManifold.
+    Eigen::Matrix<double, 3, 4> twoMt;
+    if (J) {
+        double M[12];
+        quaternionRightMatrix(x + 3, M);
+        twoMt = 2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
+    }
+    int row = 0;
+    double r[3], Jt[18];
+    for (size_t i = 0; i < corr_.size(); ++i) {
+        const ScanCorrespondence& c = corr_[i];
+        const int d = residualDim(c.type);
+        correspondenceResidual(c, R, t, r, J ? Jt : nullptr);
+        const double s = sqrt_w_[i] * inv_sigma_;
+        for (int k = 0; k < d; ++k) {
+            residuals[row + k] = s * r[k];
+            if (!J) continue;
+            double* Jrow = J + 7 * (row + k);
+            const double* g = Jt + 6 * k;
+            Jrow[0] = s * g[0], Jrow[1] = s * g[1], Jrow[2] = s * g[2];
+            const Eigen::Map<const Eigen::RowVector3d> gth(g + 3);
+            Eigen::Map<Eigen::RowVector4d>(Jrow + 3) = s * gth * twoMt;
+        }
+        row += d;
+    }
+    return true;
+}
+
+}  // namespace superloc::fusion

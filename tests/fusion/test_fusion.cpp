@@ -1,0 +1,172 @@
+#include <gtest/gtest.h>
+#include <superloc/core/se3.h>
+#include <superloc/fusion/frame_problem.h>
+#include <superloc/fusion/imu_factor.h>
+#include <superloc/fusion/pose_factors.h>
+#include <superloc/fusion/pose_manifold.h>
+#include <superloc/fusion/scan_factor.h>
+
+#include <random>
+
+using namespace superloc;
+using namespace superloc::fusion;
+using features::FeatureType;
+
+namespace {
+// Box room 20 x 12 x 4 m with a pole (line) and a few isolated points; scan points seen from
+// the body pose T_true, correspondences with exact map geometry.
+std::vector<ScanCorrespondence> boxRoom(const SE3d& T_true, int n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<ScanCorrespondence> out;
+    struct Plane { Vec3d n; double d; };  // n . x = d
+    const Plane planes[6] = {{Vec3d::UnitX(), -10}, {Vec3d::UnitX(), 10}, {Vec3d::UnitY(), -6},
+                             {Vec3d::UnitY(), 6},   {Vec3d::UnitZ(), 0},  {Vec3d::UnitZ(), 4}};
+    for (int i = 0; i < n; ++i) {
+        ScanCorrespondence c;
+        const int kind = i % 10;
+        Vec3d x_map;
+        if (kind < 8) {
+            const Plane& P = planes[i % 6];
+            x_map = Vec3d(-10 + 20 * u(rng), -6 + 12 * u(rng), 4 * u(rng));
+            x_map += (P.d - P.n.dot(x_map)) * P.n;  // onto the plane
+            c.type = FeatureType::Plane;
+            c.n = P.n;
+            c.q = x_map + 0.3 * (Vec3d::Ones() - P.n);  // another point of the plane
+        } else if (kind == 8) {
+            x_map = Vec3d(3, 2, 4 * u(rng));  // vertical pole at (3, 2)
+            c.type = FeatureType::Line;
+            c.n = Vec3d::UnitZ();
+            c.q = Vec3d(3, 2, 1);
+        } else {
+            x_map = Vec3d(-10 + 20 * u(rng), -6 + 12 * u(rng), 4 * u(rng));
+            c.type = FeatureType::Point;
+            c.q = x_map;
+        }
+        c.p = T_true.inverse() * x_map;
+        out.push_back(c);
+    }
+    return out;
+}
+}  // namespace
+
+TEST(PoseManifold, PlusMinusAndJacobian) {
+    PoseManifold m;
+    FrameState s;
+    s.setPose(makePoseRPY(1, 2, 3, 0.3, -0.2, 1.1));
+    const double d[6] = {0.1, -0.2, 0.05, 0.02, -0.03, 0.04};
+    double y[7], back[6];
+    m.Plus(s.pose, d, y);
+    m.Minus(y, s.pose, back);
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(back[k], d[k], 1e-12);
+    // Plus is a right increment: rotation of y = R Exp(dtheta).
+    FrameState sy;
+    std::copy(y, y + 7, sy.pose);
+    const Mat3d expect = s.T_map_imu().linear() * expSO3(Vec3d(d[3], d[4], d[5]));
+    EXPECT_LT((sy.T_map_imu().linear() - expect).norm(), 1e-12);
+}
+
+TEST(ScanFactor, AnalyticJacobianMatchesNumeric) {
+    const SE3d T = makePoseRPY(0.5, -0.3, 0.2, 0.05, -0.1, 0.7);
+    auto corr = boxRoom(makePoseRPY(0, 0, 0.1, 0, 0, 0.6), 40, 3);
+    ScanFactor f(corr, 0.05);
+    FrameState s;
+    s.setPose(T);
+    const int nr = f.num_residuals();
+    std::vector<double> r0(nr), J(nr * 7), r1(nr);
+    const double* params[1] = {s.pose};
+    double* jac[1] = {J.data()};
+    ASSERT_TRUE(f.Evaluate(params, r0.data(), jac));
+    PoseManifold m;
+    double P[42];
+    m.PlusJacobian(s.pose, P);
+    const Eigen::MatrixXd Jt = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>>(J.data(), nr, 7) *
+                               Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+    const double h = 1e-7;
+    for (int k = 0; k < 6; ++k) {
+        double d[6] = {0, 0, 0, 0, 0, 0}, y[7];
+        d[k] = h;
+        m.Plus(s.pose, d, y);
+        const double* py[1] = {y};
+        f.Evaluate(py, r1.data(), nullptr);
+        for (int i = 0; i < nr; ++i) EXPECT_NEAR((r1[i] - r0[i]) / h, Jt(i, k), 1e-4) << i << "," << k;
+    }
+}
+
+TEST(FrameProblem, ScanOnlyRecoversPoseFromPerturbation) {
+    const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
+    ScanFactor scan(boxRoom(T_true, 600, 5), 0.05);
+    FrameState prev, cur;
+    cur.setPose(T_true * makePoseRPY(0.3, -0.2, 0.1, 0.02, 0.03, -0.08));
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.scan = &scan;
+    FusionParams p;
+    p.max_iterations = 30;
+    const auto s = solveFrame(in, p);
+    EXPECT_TRUE(s.usable);
+    EXPECT_LT(translationDistance(cur.T_map_imu(), T_true), 1e-6);
+    EXPECT_LT(rotationAngle(cur.T_map_imu(), T_true), 1e-6);
+    EXPECT_LT(s.final_cost, 1e-10);
+}
+
+TEST(FrameProblem, ImuFactorAloneReproducesPrediction) {
+    // Constant acceleration + rotation: the IMU-only problem must land on the prediction.
+    imu::Preintegration pre;
+    for (int k = 0; k < 100; ++k) pre.integrate(Vec3d(0.5, 0.1, 9.81), Vec3d(0.1, 0.0, 0.3), 0.001);
+    FrameState prev, cur;
+    prev.setPose(makePoseRPY(2, 1, 0, 0, 0, 0.3));
+    prev.setVelocity(Vec3d(1, 0, 0));
+    const imu::NavState pred = pre.predict(prev.nav(), {}, Vec3d(0, 0, -9.81));
+    cur.setPose(pred.pose() * makePoseRPY(0.05, -0.02, 0.01, 0.01, 0, -0.02));  // off
+    cur.setVelocity(pred.v + Vec3d(0.1, 0, 0));
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.imu = &pre;
+    FusionParams p;
+    p.max_iterations = 30;
+    ASSERT_TRUE(solveFrame(in, p).usable);
+    EXPECT_LT(translationDistance(cur.T_map_imu(), pred.pose()), 1e-5);
+    EXPECT_LT(rotationAngle(cur.T_map_imu(), pred.pose()), 1e-6);
+    EXPECT_LT((cur.velocity() - pred.v).norm(), 1e-4);
+}
+
+TEST(FrameProblem, RelativePosePriorHoldsAnUnconstrainedScan) {
+    // Only the floor is seen: z, roll, pitch come from the scan; x, y, yaw only from the prior.
+    const SE3d T_prev = makePoseRPY(0, 0, 0.5, 0, 0, 0);
+    const SE3d delta = makePoseRPY(0.8, 0.1, 0, 0, 0, 0.05);
+    const SE3d T_true = T_prev * delta;
+    std::vector<ScanCorrespondence> floor;
+    for (const auto& c : boxRoom(T_true, 400, 9))
+        if (c.type == FeatureType::Plane && c.n.z() > 0.5 && c.q.z() < 1) floor.push_back(c);
+    ASSERT_GT(floor.size(), 30u);
+    ScanFactor scan(floor, 0.05);
+    FrameState prev, cur;
+    prev.setPose(T_prev);
+    cur.setPose(T_true * makePoseRPY(0.2, -0.3, 0.05, 0.01, -0.01, 0.05));
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.scan = &scan;
+    RelativePosePrior prior;
+    prior.delta = delta;
+    prior.sqrt_info = Mat6d::Identity() * 100;
+    in.prior = prior;
+    FusionParams p;
+    p.max_iterations = 30;
+    ASSERT_TRUE(solveFrame(in, p).usable);
+    EXPECT_LT(translationDistance(cur.T_map_imu(), T_true), 1e-5);
+    EXPECT_LT(rotationAngle(cur.T_map_imu(), T_true), 1e-6);
+    // The previous pose stays fixed without IMU.
+    EXPECT_LT(translationDistance(prev.T_map_imu(), T_prev), 1e-12);
+}
+
+TEST(RobustKernel, WeightsAndNames) {
+    EXPECT_DOUBLE_EQ(robustWeight(RobustKernel::Huber, 0.05, 0.1), 1.0);
+    EXPECT_DOUBLE_EQ(robustWeight(RobustKernel::Huber, 0.4, 0.1), 0.25);
+    EXPECT_DOUBLE_EQ(robustWeight(RobustKernel::Cauchy, 0.1, 0.1), 0.5);
+    EXPECT_EQ(robustKernelFromString("cauchy"), RobustKernel::Cauchy);
+    EXPECT_THROW(robustKernelFromString("tukey"), std::invalid_argument);
+}
