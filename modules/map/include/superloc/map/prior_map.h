@@ -32,6 +32,12 @@ struct PointGeometry {
     bool oriented = false;         ///< normal sign is meaningful (viewpoint known)
 };
 
+/// PCA of a neighbourhood (Pauly et al. 2002 style): unsigned unit normal (eigenvector of the
+/// smallest covariance eigenvalue), planarity, linearity and the RMS distance of the points to
+/// their best-fit plane (= sqrt of the smallest eigenvalue). Fewer than 3 points, or all points
+/// equal, give a zero normal, zero scores and an infinite fit_residual ("no geometry").
+PointGeometry fitNeighborhood(const std::vector<Vec3f>& pts);
+
 /// Result of a neighbourhood query.
 struct Neighbors {
     std::vector<uint32_t> indices;  ///< nearest first

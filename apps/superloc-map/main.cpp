@@ -1,0 +1,39 @@
+// superloc-map: prior map from a rawlog's scans and their poses. See superloc::map::MapApp.
+#include <mrpt/system/progress.h>
+#include <superloc/map/map_app.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    try {
+        const auto args = superloc::map::parseMapAppArgs(argc, argv);
+        if (args.help) {
+            std::cout << superloc::map::mapAppUsage();
+            return 0;
+        }
+        superloc::map::MapApp app(args);
+        superloc::io::ProgressFn bar;
+        if (isatty(fileno(stderr)))
+            bar = [](size_t done, size_t total) {
+                std::cerr << "\r" << mrpt::system::progress(total ? double(done) / total : 1.0, 40)
+                          << " " << done << "/" << total << " scans" << std::flush;
+            };
+        app.run(bar);
+        if (bar) std::cerr << "\n";
+        const auto& r = app.result();
+        std::cout << args.out << ": " << r.map_points << " map points from " << r.scans_used
+                  << " scans (" << r.points_in << " points in";
+        if (r.scans_without_pose) std::cout << ", " << r.scans_without_pose << " scans without pose skipped";
+        std::cout << ")\n";
+        if (const auto& s = app.stats())
+            std::cout << "median point-to-plane fit residual: " << s->median_fit_residual * 1000
+                      << " mm (all points), " << s->median_planar_fit_residual * 1000
+                      << " mm (planar points, " << s->planar_fraction * 100 << "% of the map)\n";
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "superloc-map: " << superloc::map::oneLineMessage(e) << "\n";
+        return 1;
+    }
+}

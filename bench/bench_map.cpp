@@ -1,0 +1,76 @@
+// PriorMap preparation on a 1 M-point map and kd-tree query cost (issue 2: "loading + preparing
+// a 1 M-point map takes seconds"). Run: superloc-microbench-map
+#include <benchmark/benchmark.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/map/prior_map.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+using namespace superloc;
+
+namespace {
+
+/// ~1 M points on the walls, floor and ceiling of a 50 m x 20 m x 4 m hall, 1 cm noise.
+PointCloud hall(size_t n) {
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> U(0.f, 1.f);
+    std::normal_distribution<float> noise(0.f, 0.01f);
+    PointCloud c;
+    c.points.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
+        const float a = U(rng), b = U(rng);
+        switch (i % 4) {
+            case 0: c.points.emplace_back(50 * a, 20 * b, noise(rng)); break;       // floor
+            case 1: c.points.emplace_back(50 * a, 20 * b, 4 + noise(rng)); break;   // ceiling
+            case 2: c.points.emplace_back(50 * a, noise(rng), 4 * b); break;        // wall
+            default: c.points.emplace_back(noise(rng), 20 * a, 4 * b); break;       // wall
+        }
+    }
+    return c;
+}
+
+void BM_PrepareMap1M(benchmark::State& state) {
+    const PointCloud cloud = hall(1'000'000);
+    map::MapParams p;
+    p.voxel_size = 0;  // keep all 1 M points
+    for (auto _ : state) {
+        const map::PriorMap m(cloud, p);
+        benchmark::DoNotOptimize(m.size());
+        state.counters["points"] = static_cast<double>(m.size());
+    }
+}
+BENCHMARK(BM_PrepareMap1M)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+void BM_LoadPcdAndPrepare1M(benchmark::State& state) {
+    const auto path = std::filesystem::temp_directory_path() / "superloc_bench_map_1m.pcd";
+    io::savePointCloud(path.string(), hall(1'000'000));
+    map::MapParams p;
+    p.voxel_size = 0.05;
+    for (auto _ : state) {
+        const auto m = map::PriorMap::load(path.string(), p);
+        benchmark::DoNotOptimize(m.size());
+        state.counters["points"] = static_cast<double>(m.size());
+    }
+    std::filesystem::remove(path);
+}
+BENCHMARK(BM_LoadPcdAndPrepare1M)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+void BM_Knn10(benchmark::State& state) {
+    map::MapParams p;
+    p.voxel_size = 0;
+    const map::PriorMap m(hall(1'000'000), p);
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<float> U(0.f, 1.f);
+    map::Neighbors nb;
+    for (auto _ : state) {
+        m.knn(Vec3f(50 * U(rng), 20 * U(rng), 4 * U(rng)), 10, nb);
+        benchmark::DoNotOptimize(nb.indices.data());
+    }
+}
+BENCHMARK(BM_Knn10)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,117 @@
+// PriorMap: voxel filter, kd-tree, and per-point geometry computed once, in parallel.
+#include <mrpt/system/CTicTac.h>
+#include <superloc/core/voxel.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/map/prior_map.h>
+
+#include <algorithm>
+#include <limits>
+#include <thread>
+
+#include "kdtree.h"
+
+namespace superloc::map {
+
+struct PriorMap::Impl {
+    MapParams params;
+    std::vector<Vec3f> points;
+    std::vector<PointGeometry> geometry;
+    detail::PointsAdaptor adaptor;
+    std::unique_ptr<detail::KdTree> tree;
+    double prepare_seconds = 0;
+
+    void computeGeometry(
+        size_t begin, size_t end, const std::vector<Vec3f>& given_normals,
+        const std::optional<Vec3f>& viewpoint);
+};
+
+void PriorMap::Impl::computeGeometry(
+    size_t begin, size_t end, const std::vector<Vec3f>& given_normals,
+    const std::optional<Vec3f>& viewpoint) {
+    const size_t k = std::min<size_t>(static_cast<size_t>(params.normal_k), points.size());
+    const float max_sq = static_cast<float>(params.normal_max_radius * params.normal_max_radius);
+    std::vector<uint32_t> idx(k);
+    std::vector<float> d2(k);
+    std::vector<Vec3f> nb;
+    nb.reserve(k);
+    for (size_t i = begin; i < end; ++i) {
+        const size_t found = tree->knnSearch(points[i].data(), k, idx.data(), d2.data());
+        nb.clear();
+        for (size_t j = 0; j < found; ++j)
+            if (d2[j] <= max_sq) nb.push_back(points[idx[j]]);
+        PointGeometry g = fitNeighborhood(nb);
+        // Orientation: toward the viewpoint, else like the file's own normal, else unsigned.
+        if (g.normal.squaredNorm() > 0) {
+            Vec3f ref = Vec3f::Zero();
+            if (viewpoint)
+                ref = *viewpoint - points[i];
+            else if (!given_normals.empty() && given_normals[i].allFinite())
+                ref = given_normals[i];
+            if (ref.squaredNorm() > 0) {
+                if (g.normal.dot(ref) < 0) g.normal = -g.normal;
+                g.oriented = true;
+            }
+        }
+        geometry[i] = g;
+    }
+}
+
+PriorMap::PriorMap(
+    const PointCloud& cloud, const MapParams& params, const std::optional<Vec3f>& viewpoint)
+    : impl_(std::make_unique<Impl>()) {
+    params.validate();
+    mrpt::system::CTicTac timer;
+    impl_->params = params;
+    PointCloud filtered = voxelDownsample(cloud, static_cast<float>(params.voxel_size));
+    impl_->points = std::move(filtered.points);
+    impl_->adaptor.pts = &impl_->points;
+    impl_->tree = std::make_unique<detail::KdTree>(
+        3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    impl_->geometry.resize(impl_->points.size());
+
+    const size_t n = impl_->points.size();
+    const size_t threads = std::max(1u, std::thread::hardware_concurrency());
+    const size_t chunk = (n + threads - 1) / threads;
+    std::vector<std::thread> pool;
+    for (size_t t = 0; t < threads && t * chunk < n; ++t)
+        pool.emplace_back([&, t] {
+            impl_->computeGeometry(t * chunk, std::min(n, (t + 1) * chunk), filtered.normals, viewpoint);
+        });
+    for (auto& th : pool) th.join();
+    impl_->prepare_seconds = timer.Tac();
+}
+
+PriorMap::~PriorMap() = default;
+PriorMap::PriorMap(PriorMap&&) noexcept = default;
+PriorMap& PriorMap::operator=(PriorMap&&) noexcept = default;
+
+PriorMap PriorMap::load(const std::string& path, const MapParams& params) {
+    return PriorMap(io::loadPointCloud(path), params);
+}
+
+size_t PriorMap::size() const { return impl_->points.size(); }
+const std::vector<Vec3f>& PriorMap::points() const { return impl_->points; }
+const Vec3f& PriorMap::point(size_t i) const { return impl_->points.at(i); }
+const PointGeometry& PriorMap::geometry(size_t i) const { return impl_->geometry.at(i); }
+double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
+
+void PriorMap::knn(const Vec3f& q, size_t k, Neighbors& out) const {
+    k = std::min(k, impl_->points.size());
+    out.indices.resize(k);
+    out.sq_dists.resize(k);
+    if (k == 0) return;
+    const size_t found = impl_->tree->knnSearch(q.data(), k, out.indices.data(), out.sq_dists.data());
+    out.indices.resize(found);
+    out.sq_dists.resize(found);
+}
+
+std::pair<uint32_t, float> PriorMap::nearest(const Vec3f& q) const {
+    if (impl_->points.empty())
+        return {std::numeric_limits<uint32_t>::max(), std::numeric_limits<float>::infinity()};
+    uint32_t idx = 0;
+    float d2 = 0;
+    impl_->tree->knnSearch(q.data(), 1, &idx, &d2);
+    return {idx, d2};
+}
+
+}  // namespace superloc::map
