@@ -7,6 +7,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "cloud_formats.h"
@@ -40,10 +41,30 @@ float readAs(const uint8_t* p, const pcl::PCLPointField& f) {
     }
 }
 
+/// PCL accepts some broken headers (e.g. no DATA line) as an empty cloud: check the header's
+/// required lines ourselves first.
+void checkHeader(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(path + ": cannot open");
+    bool fields = false, data = false;
+    std::string line;
+    for (int n = 0; n < 64 && std::getline(in, line); ++n) {
+        if (line.rfind("FIELDS", 0) == 0) fields = true;
+        if (line.rfind("DATA", 0) == 0) {
+            data = true;
+            break;
+        }
+    }
+    if (!fields || !data)
+        throw std::runtime_error(path + ": corrupt PCD file: header has no " +
+                                 std::string(!fields ? "FIELDS" : "DATA") + " line");
+}
+
 }  // namespace
 
 PointCloud readPcd(const std::string& path) {
     quietPcl();
+    checkHeader(path);
     pcl::PCLPointCloud2 pc;
     int rc = -1;
     try {
