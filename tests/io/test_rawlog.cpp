@@ -1,5 +1,12 @@
 // Rawlog write -> read round trip of every type, ordering, labels, and MRPT's Velodyne files.
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/serialization/CArchive.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
@@ -268,4 +275,39 @@ TEST(Rawlog, RotatingScanMatchesTheSameVelodyneScan) {
     std::sort(d.begin(), d.end());
     EXPECT_LT(d[d.size() / 2], 0.05f);
     EXPECT_LT(d[d.size() * 9 / 10], 0.15f);
+}
+
+TEST(Rawlog, ToleratesSensoryFrameFormatAndPlainPointMaps) {
+    // The older action/sensory-frame layout, with a CSimplePointsMap cloud (no intensity).
+    const auto path = freshDir("rawlog_sf") + "/sf.rawlog";
+    {
+        mrpt::io::CFileGZOutputStream f(path);
+        auto arch = mrpt::serialization::archiveFrom(f);
+        for (int k = 0; k < 3; ++k) {
+            mrpt::obs::CActionCollection acts;
+            mrpt::obs::CSensoryFrame sf;
+            auto pc = mrpt::obs::CObservationPointCloud::Create();
+            pc->timestamp = mrpt::Clock::fromDouble(5.0 + k);
+            pc->sensorLabel = "lidar";
+            auto m = mrpt::maps::CSimplePointsMap::Create();
+            for (int i = 0; i < 100; ++i) m->insertPoint(float(i), 1.0f, 2.0f);
+            pc->pointcloud = m;
+            sf.insert(pc);
+            auto imu = mrpt::obs::CObservationIMU::Create();
+            imu->timestamp = mrpt::Clock::fromDouble(5.5 + k);
+            for (auto idx : {mrpt::obs::IMU_X_ACC, mrpt::obs::IMU_Y_ACC, mrpt::obs::IMU_Z_ACC,
+                             mrpt::obs::IMU_WX, mrpt::obs::IMU_WY, mrpt::obs::IMU_WZ})
+                imu->set(idx, 0.5);
+            sf.insert(imu);
+            arch << acts << sf;
+        }
+    }
+    RawlogStats st;
+    const auto items = readAll(path, &st);
+    ASSERT_EQ(items.size(), 6u);
+    EXPECT_EQ(st.lidar, 3u);
+    EXPECT_EQ(st.imu, 3u);
+    EXPECT_EQ(items[0].scan().size(), 100u);
+    EXPECT_TRUE(items[0].scan().intensity.empty());
+    EXPECT_NEAR(items[5].time(), 7.5, 1e-6);
 }

@@ -63,7 +63,18 @@ struct RawlogStats {
 };
 
 /// Streams a rawlog in timestamp order, one typed item at a time. Memory is bounded by the
-/// reorder window, not by the file length. Throws std::runtime_error with a one-line message
+/// reorder window, not by the file length.
+///
+/// Scans: Scan::t is the observation timestamp; points are in the sensor frame and
+/// T_imu_lidar is the observation's sensorPose. Per-point rel_time (relative to Scan::t):
+///  - CObservationPointCloud: from the azimuth (RawlogParams scan_period, rotation_sense,
+///    start_azimuth_deg) for a sweep that *ends* at t: rel_time in [-scan_period, 0).
+///  - CObservationVelodyneScan: MRPT's per-point timestamps; MRPT stamps the observation at the
+///    *first* firing, so rel_time is in [0, sweep) (>= 0).
+///  - CObservationRotatingScan (VLP-16 / HDL-32E range images as MRPT 2.5.8's fromVelodyne()
+///    writes them, or 1-row 2-D scans): from the column, also >= 0. Other models carry no beam
+///    angles in MRPT 2.5.8 and are skipped (counted in unknown_observations).
+/// Intensity: as stored (CPointsMapXYZI), or 0..1 for Velodyne/rotating scans (byte / 255). Throws std::runtime_error with a one-line message
 /// naming the file (and the entry index) on a missing, truncated or corrupt file, or on
 /// timestamps going backwards by more than the reorder window.
 class RawlogReader {
