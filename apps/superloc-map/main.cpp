@@ -30,7 +30,8 @@ int main(int argc, char** argv) {
         if (const auto& s = app.stats())
             std::cout << "median point-to-plane fit residual: " << s->median_fit_residual * 1000
                       << " mm (all points), " << s->median_planar_fit_residual * 1000
-                      << " mm (planar points, " << s->planar_fraction * 100 << "% of the map)\n";
+                      << " mm (planar points, " << s->planar_fraction * 100 << "% of the map); "
+                      << "normals of " << s->points << " points in " << s->prepare_seconds << " s\n";
         return 0;
     } catch (const std::exception& e) {
         std::cerr << "superloc-map: " << superloc::map::oneLineMessage(e) << "\n";
