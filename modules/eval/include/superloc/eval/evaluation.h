@@ -1,0 +1,43 @@
+// One run's evaluation: every metric of DESIGN §8 from an estimate, its GT and optionally the
+// maps and the localizer's frame log; plus its JSON and Markdown forms.
+#pragma once
+
+#include <superloc/eval/eval_params.h>
+#include <superloc/eval/frame_log.h>
+#include <superloc/eval/json_writer.h>
+#include <superloc/eval/map_metrics.h>
+#include <superloc/eval/robustness.h>
+#include <superloc/eval/timing.h>
+#include <superloc/eval/trajectory_metrics.h>
+
+#include <map>
+#include <optional>
+#include <string>
+
+namespace superloc::eval {
+
+struct EvalResult {
+    size_t est_frames = 0, gt_frames = 0, matched_frames = 0;
+    bool aligned = false;
+    AteResult ate;
+    RpeResult rpe;
+    RobustnessCurve rp, rr;                  ///< Rp (translation, m) and Rr (rotation, rad)
+    std::optional<MapResult> map;            ///< when both maps were given
+    std::optional<TimingStats> timing;       ///< ms_total of the frame log
+    std::map<std::string, TimingStats> stages;  ///< every ms_* column of the frame log
+    std::optional<double> degenerate_frame_percent;  ///< [%] frames with any axis flagged
+};
+
+/// Evaluates one run. `est_map`/`gt_map` and `frames` may be null.
+EvalResult evaluate(
+    const Trajectory& est, const Trajectory& gt, const EvalParams& params,
+    const PointCloud* est_map = nullptr, const PointCloud* gt_map = nullptr,
+    const FrameLog* frames = nullptr);
+
+/// Writes the result as one JSON object (curves included when `with_curves`).
+void writeJson(JsonWriter& json, const EvalResult& r, bool with_curves = true);
+
+/// A human-readable Markdown summary (a two-column metric table).
+std::string summaryMarkdown(const EvalResult& r);
+
+}  // namespace superloc::eval

@@ -1,0 +1,36 @@
+// The localizer's per-frame log (DESIGN §9 `frames.csv`), as the evaluation needs it.
+#pragma once
+
+#include <superloc/core/types.h>
+
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace superloc::eval {
+
+struct FrameRecord {
+    double t = 0;                          ///< [s]
+    Vec6d gamma = Vec6d::Zero();           ///< confidence, (x y z roll pitch yaw)
+    std::array<bool, 6> degenerate{};      ///< parsed from the `degenerate` letters
+    double ms_total = 0;                   ///< [ms] wall time of the frame
+};
+
+struct FrameLog {
+    std::vector<FrameRecord> frames;
+    /// Every `ms_*` column (ms_total included), one value per frame [ms].
+    std::map<std::string, std::vector<double>> stage_ms;
+    bool has_gamma = false;  ///< the file had the six gamma_* columns
+};
+
+/// Parses the `degenerate` column ("x", "xyaw", "rollpitch", "" ...) into flags; throws
+/// std::invalid_argument on an unknown letter sequence.
+std::array<bool, 6> parseDegenerateAxes(const std::string& letters);
+
+/// Reads frames.csv: a header row naming the columns, then one row per frame. Required: `t` and
+/// `ms_total`; gamma_* and `degenerate` are used when present. Throws std::runtime_error
+/// "FILE:LINE: ..." on a missing file or column, or a malformed number.
+FrameLog loadFrameLog(const std::string& path);
+
+}  // namespace superloc::eval

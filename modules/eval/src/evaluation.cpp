@@ -1,0 +1,118 @@
+#include <superloc/eval/evaluation.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace superloc::eval {
+
+EvalResult evaluate(
+    const Trajectory& est, const Trajectory& gt, const EvalParams& params,
+    const PointCloud* est_map, const PointCloud* gt_map, const FrameLog* frames) {
+    EvalResult r;
+    r.est_frames = est.size();
+    r.gt_frames = gt.size();
+    const Association a = associate(est, gt, params.assoc_tolerance);
+    r.matched_frames = a.pairs.size();
+    r.aligned = params.align;
+    r.ate = computeAte(est, gt, a, params.align);
+    r.rpe = computeRpe(est, gt, a);
+    // Robustness over steps: est.size()-1 estimated steps, gt.size()-1 GT steps.
+    const size_t gt_steps = gt.empty() ? 0 : gt.size() - 1;
+    r.rp = robustnessArea(r.rpe.frame_trans, gt_steps, params.robustness_bins);
+    r.rr = robustnessArea(r.rpe.frame_rot, gt_steps, params.robustness_bins);
+    if (est_map && gt_map)
+        r.map = computeMapOutliers(*est_map, *gt_map, params.map_voxel, params.outlier_threshold);
+    if (frames && !frames->frames.empty()) {
+        for (const auto& [name, ms] : frames->stage_ms) r.stages[name] = timingStats(ms);
+        if (r.stages.count("ms_total")) r.timing = r.stages.at("ms_total");
+        size_t flagged = 0;
+        for (const auto& f : frames->frames)
+            for (bool d : f.degenerate)
+                if (d) {
+                    ++flagged;
+                    break;
+                }
+        r.degenerate_frame_percent = 100.0 * double(flagged) / double(frames->frames.size());
+    }
+    return r;
+}
+
+namespace {
+void stats(JsonWriter& j, const std::string& name, const ErrorStats& s) {
+    j.key(name).beginObject().field("n", s.n).field("rmse", s.rmse).field("mean", s.mean);
+    j.field("median", s.median).field("max", s.max).endObject();
+}
+void timing(JsonWriter& j, const std::string& name, const TimingStats& t) {
+    j.key(name).beginObject().field("frames", t.frames).field("mean_ms", t.mean_ms);
+    j.field("median_ms", t.median_ms).field("p95_ms", t.p95_ms).field("max_ms", t.max_ms);
+    j.field("fps", t.fps).endObject();
+}
+void curve(JsonWriter& j, const std::string& name, const RobustnessCurve& c) {
+    std::vector<double> tau, f1;
+    for (const auto& p : c.curve) tau.push_back(p.tau), f1.push_back(p.f1);
+    j.key(name).beginObject().field("area", c.area);
+    j.key("tau").array(tau).key("f1").array(f1).endObject();
+}
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+}  // namespace
+
+void writeJson(JsonWriter& j, const EvalResult& r, bool with_curves) {
+    j.beginObject();
+    j.field("est_frames", r.est_frames).field("gt_frames", r.gt_frames);
+    j.field("matched_frames", r.matched_frames).field("aligned", r.aligned);
+    j.key("ate").beginObject();
+    stats(j, "trans_m", r.ate.trans);
+    stats(j, "rot_rad", r.ate.rot);
+    j.endObject();
+    j.key("rpe").beginObject();
+    stats(j, "trans_m", r.rpe.trans);
+    stats(j, "rot_rad", r.rpe.rot);
+    j.endObject();
+    j.field("Rp", r.rp.area).field("Rr", r.rr.area);
+    if (with_curves) {
+        curve(j, "f1_trans", r.rp);
+        curve(j, "f1_rot", r.rr);
+    }
+    if (r.map) {
+        j.key("map").beginObject().field("points", r.map->points).field("gt_points", r.map->gt_points);
+        j.field("outlier_percent", r.map->outlier_percent).field("median_dist_m", r.map->median_dist);
+        j.field("mean_dist_m", r.map->mean_dist).endObject();
+    }
+    if (r.timing) timing(j, "timing", *r.timing);
+    if (!r.stages.empty()) {
+        j.key("stages").beginObject();
+        for (const auto& [name, t] : r.stages) timing(j, name, t);
+        j.endObject();
+    }
+    if (r.degenerate_frame_percent) j.field("degenerate_frame_percent", *r.degenerate_frame_percent);
+    j.endObject();
+}
+
+std::string summaryMarkdown(const EvalResult& r) {
+    std::string s = "| metric | value |\n|---|---|\n";
+    auto row = [&](const std::string& k, const std::string& v) { s += "| " + k + " | " + v + " |\n"; };
+    row("frames (estimate / GT / matched)", std::to_string(r.est_frames) + " / " +
+        std::to_string(r.gt_frames) + " / " + std::to_string(r.matched_frames));
+    row(std::string("ATE trans RMSE / mean / max [m]") + (r.aligned ? " (SE(3)-aligned)" : ""),
+        fmt("%.4f", r.ate.trans.rmse) + " / " + fmt("%.4f", r.ate.trans.mean) + " / " +
+            fmt("%.4f", r.ate.trans.max));
+    row("ATE rot RMSE [deg]", fmt("%.3f", r.ate.rot.rmse * 180 / M_PI));
+    row("RPE (1 frame) trans RMSE [m] / rot RMSE [deg]",
+        fmt("%.4f", r.rpe.trans.rmse) + " / " + fmt("%.3f", r.rpe.rot.rmse * 180 / M_PI));
+    row("Rp / Rr", fmt("%.4f", r.rp.area) + " / " + fmt("%.4f", r.rr.area));
+    if (r.map)
+        row("map outliers [%] / median dist [m] (" + std::to_string(r.map->points) + " pts)",
+            fmt("%.2f", r.map->outlier_percent) + " / " + fmt("%.4f", r.map->median_dist));
+    if (r.timing)
+        row("ms/frame median / p95 / max, FPS",
+            fmt("%.1f", r.timing->median_ms) + " / " + fmt("%.1f", r.timing->p95_ms) + " / " +
+                fmt("%.1f", r.timing->max_ms) + ", " + fmt("%.1f", r.timing->fps));
+    if (r.degenerate_frame_percent) row("frames with a degenerate axis [%]", fmt("%.1f", *r.degenerate_frame_percent));
+    return s;
+}
+
+}  // namespace superloc::eval

@@ -1,0 +1,90 @@
+#include <superloc/core/config.h>
+#include <superloc/eval/frame_log.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace superloc::eval {
+namespace {
+
+std::vector<std::string> splitCsv(const std::string& line) {
+    std::vector<std::string> out;
+    std::string cell;
+    std::istringstream ss(line);
+    while (std::getline(ss, cell, ',')) out.push_back(stripIniValue(cell));
+    if (!line.empty() && line.back() == ',') out.emplace_back();
+    return out;
+}
+
+}  // namespace
+
+std::array<bool, 6> parseDegenerateAxes(const std::string& letters) {
+    std::array<bool, 6> flags{};
+    size_t pos = 0;
+    while (pos < letters.size()) {
+        bool matched = false;
+        // Longest names first so "yaw" is not read as "y" + "aw".
+        for (int k : {3, 4, 5, 0, 1, 2}) {
+            const std::string name = kAxisNames[k];
+            if (letters.compare(pos, name.size(), name) == 0) {
+                flags[k] = true;
+                pos += name.size();
+                matched = true;
+                break;
+            }
+        }
+        if (!matched)
+            throw std::invalid_argument("degenerate axes '" + letters + "': unknown axis letters");
+    }
+    return flags;
+}
+
+FrameLog loadFrameLog(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error(path + ": cannot open frames CSV");
+    std::string line;
+    if (!std::getline(in, line)) throw std::runtime_error(path + ":1: empty file, expected a header");
+    const auto header = splitCsv(line);
+    std::map<std::string, size_t> col;
+    for (size_t k = 0; k < header.size(); ++k) col[header[k]] = k;
+    for (const char* need : {"t", "ms_total"})
+        if (!col.count(need))
+            throw std::runtime_error(path + ":1: missing column '" + std::string(need) + "'");
+    FrameLog log;
+    log.has_gamma = true;
+    for (int k = 0; k < 6; ++k) log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
+
+    size_t lineno = 1;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (stripIniValue(line).empty()) continue;
+        const auto cells = splitCsv(line);
+        const std::string where = path + ":" + std::to_string(lineno) + ": ";
+        auto number = [&](const std::string& name) {
+            const size_t k = col.at(name);
+            double v;
+            if (k >= cells.size() || !parseDouble(cells[k], v))
+                throw std::runtime_error(where + "column '" + name + "' is not a number");
+            return v;
+        };
+        FrameRecord f;
+        f.t = number("t");
+        f.ms_total = number("ms_total");
+        if (log.has_gamma)
+            for (int k = 0; k < 6; ++k) f.gamma[k] = number(std::string("gamma_") + kAxisNames[k]);
+        if (col.count("degenerate") && col["degenerate"] < cells.size()) {
+            try {
+                f.degenerate = parseDegenerateAxes(cells[col["degenerate"]]);
+            } catch (const std::invalid_argument& e) {
+                throw std::runtime_error(where + e.what());
+            }
+        }
+        for (const auto& [name, k] : col)
+            if (name.rfind("ms_", 0) == 0) log.stage_ms[name].push_back(number(name));
+        log.frames.push_back(f);
+    }
+    return log;
+}
+
+}  // namespace superloc::eval
