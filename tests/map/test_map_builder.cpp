@@ -195,3 +195,41 @@ TEST(MapApp, UnknownIniKeyIsAnError) {
                                      out.c_str(), "--set", "rawlog.gt_lable=x"};
     EXPECT_THROW(map::parseMapAppArgs(static_cast<int>(argv.size()), argv.data()), superloc::ConfigError);
 }
+
+TEST(MapBuilder, StoredNormalsFaceTheRoomInterior) {
+    const Fixture f = writeRoomRawlog("map_builder_normals", true);
+    map::MapBuildOptions o;
+    o.rawlog = f.rawlog;
+    map::MapBuilder b(o);
+    const PointCloud m = b.build();
+    ASSERT_EQ(m.normals.size(), m.size());
+    size_t checked = 0, inward = 0;
+    for (size_t i = 0; i < m.size(); ++i) {
+        const Vec3f& p = m.points[i];
+        // Points on the floor (away from the walls): the normal must be +z, toward the sensors.
+        if (p.z() < 0.01f && p.x() > 1 && p.x() < 9 && p.y() > 1 && p.y() < 5) {
+            ++checked;
+            inward += m.normals[i].z() > 0.99f ? 1 : 0;
+        }
+    }
+    ASSERT_GT(checked, 500u);
+    EXPECT_EQ(inward, checked);
+
+    // Saved and loaded, the PriorMap orients its own normals the same way.
+    const std::string path = f.dir + "/map.pcd";
+    io::savePointCloud(path, m);
+    const map::PriorMap pm = map::PriorMap::load(path, map::MapParams{});
+    size_t oriented = 0, agree = 0;
+    const Vec3f centre(5, 3, 1.5);
+    for (size_t i = 0; i < pm.size(); ++i) {
+        const auto& g = pm.geometry(i);
+        if (!g.oriented) continue;
+        ++oriented;
+        agree += g.normal.dot(centre - pm.point(i)) > 0 ? 1 : 0;
+    }
+    EXPECT_GT(oriented, pm.size() * 99 / 100);
+    EXPECT_GT(agree, oriented * 98 / 100);
+
+    o.normals = false;
+    EXPECT_TRUE(map::MapBuilder(o).build().normals.empty());
+}

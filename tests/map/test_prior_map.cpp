@@ -214,3 +214,13 @@ TEST(PriorMap, MovedMapKeepsWorking) {
     EXPECT_EQ(d2, 0.f);
     EXPECT_EQ(b.point(idx), b.point(10));
 }
+
+TEST(PriorMap, NonFinitePointsAreDropped) {
+    PointCloud c = cylinderCloud(1.0f);
+    const size_t n = c.size();
+    c.points[5] = Vec3f(NAN, 0, 0);
+    c.points[9] = Vec3f(0, INFINITY, 0);
+    const PriorMap map(c, params());
+    EXPECT_EQ(map.size(), n - 2);
+    for (const auto& p : map.points()) ASSERT_TRUE(p.allFinite());
+}

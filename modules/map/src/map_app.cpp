@@ -49,8 +49,8 @@ std::string oneLineMessage(const std::exception& e) {
 
 std::string mapAppUsage() {
     return "Usage: superloc-map --rawlog FILE [--poses TUM] [--voxel M] --out MAP.pcd\n"
-           "                    [--min-range M] [--max-range M] [--body-poses] [--stats]\n"
-           "                    [--config INI] [--set rawlog.key=value]...\n"
+           "                    [--min-range M] [--max-range M] [--body-poses] [--no-normals]\n"
+           "                    [--stats] [--config INI] [--set rawlog.key=value]...\n"
            "Builds a prior map from a rawlog's LiDAR scans placed at their poses.\n"
            "  --rawlog FILE   input rawlog (CObservationPointCloud/Velodyne/RotatingScan scans)\n"
            "  --poses TUM     scan poses T_map_lidar (t x y z qx qy qz qw), interpolated at each\n"
@@ -61,6 +61,8 @@ std::string mapAppUsage() {
            "  --min-range M   drop scan points closer than M to the sensor (default 0.5)\n"
            "  --max-range M   drop scan points farther than M (default 0: no limit)\n"
            "  --body-poses    the poses are T_map_imu: apply each scan's sensorPose too\n"
+           "  --no-normals    do not store per-point normals (by default they are written,\n"
+           "                  flipped toward the side the scans saw each surface from)\n"
            "  --stats         compute per-point normals and print the median point-to-plane\n"
            "                  fit residual of the map (how sharp its surfaces are)\n"
            "  --config INI    INI file whose [rawlog] section sets the observation labels\n"
@@ -84,6 +86,7 @@ MapAppArgs parseMapAppArgs(int argc, const char* const* argv) {
         else if (flag == "--min-range") a.build.min_range = parseNumber(flag, value());
         else if (flag == "--max-range") a.build.max_range = parseNumber(flag, value());
         else if (flag == "--body-poses") a.build.body_poses = true;
+        else if (flag == "--no-normals") a.build.normals = false;
         else if (flag == "--stats") a.stats = true;
         else if (flag == "--config") a.config = value();
         else if (flag == "--set") a.overrides.push_back(value());

@@ -2,7 +2,9 @@
 #include <superloc/core/se3.h>
 #include <superloc/core/voxel.h>
 #include <superloc/io/tum.h>
+#include <mrpt/system/CTicTac.h>
 #include <superloc/map/map_builder.h>
+#include <superloc/map/prior_map.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +19,7 @@ namespace {
 /// points on a plane lies on that plane, so walls stay sharp while noise averages out.
 struct VoxelSum {
     Vec3d sum = Vec3d::Zero();
+    Vec3f view = Vec3f::Zero();  ///< sum of unit vectors from the points toward their sensor
     double intensity = 0;
     uint32_t count = 0;
 };
@@ -61,6 +64,7 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
     std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> index;
     std::vector<VoxelSum> sums;
     PointCloud all;  // voxel == 0: every point is kept
+    std::vector<Vec3f> all_views;
     bool have_intensity = true;
 
     io::RawlogReader reader(opts_.rawlog, opts_.rawlog_params);
@@ -88,10 +92,12 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
             if (r2 < min_r2 || r2 > max_r2) continue;
             const Vec3d q = (R * p).cast<double>() + t;
             const float inten = have_intensity ? scan.intensity[i] : 0.f;
+            const Vec3f view = -(R * p) / std::sqrt(r2);  // toward the sensor, map axes
             ++result_.points_in;
             if (voxel <= 0) {
                 all.points.push_back(q.cast<float>());
                 all.intensity.push_back(inten);
+                if (opts_.normals) all_views.push_back(view);
                 continue;
             }
             const auto [it, fresh] =
@@ -100,6 +106,7 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
             VoxelSum& s = sums[it->second];
             s.sum += q;
             s.intensity += inten;
+            s.view += view;
             ++s.count;
         }
         ++result_.scans_used;
@@ -111,17 +118,38 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
             " LiDAR observations, none within the poses' time span)");
 
     PointCloud map;
+    std::vector<Vec3f> views;
     if (voxel <= 0) {
         map = std::move(all);
+        views = std::move(all_views);
     } else {
         map.points.reserve(sums.size());
         map.intensity.reserve(sums.size());
+        views.reserve(sums.size());
         for (const auto& s : sums) {
             map.points.push_back((s.sum / s.count).cast<float>());
             map.intensity.push_back(static_cast<float>(s.intensity / s.count));
+            views.push_back(s.view);
         }
     }
+    sums = {};
+    index = {};
     if (!have_intensity) map.intensity.clear();
+    if (opts_.normals) {
+        mrpt::system::CTicTac timer;
+        MapParams p;
+        p.voxel_size = 0;
+        p.normal_k = 10;
+        p.normal_max_radius = std::max(0.5, 5 * opts_.voxel);
+        PointCloud oriented;
+        oriented.points = map.points;
+        oriented.normals = std::move(views);
+        // The viewing directions orient the normals (PriorMap flips each toward the given one).
+        const PriorMap pm(oriented, p);
+        map.normals.resize(map.size());
+        for (size_t i = 0; i < map.size(); ++i) map.normals[i] = pm.geometry(i).normal;
+        result_.normals_seconds = timer.Tac();
+    }
     result_.map_points = map.size();
     MRPT_LOG_INFO_STREAM(
         "map: " << result_.scans_used << " scans, " << result_.points_in << " points in, "

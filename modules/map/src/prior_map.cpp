@@ -62,7 +62,18 @@ PriorMap::PriorMap(
     params.validate();
     mrpt::system::CTicTac timer;
     impl_->params = params;
-    PointCloud filtered = voxelDownsample(cloud, static_cast<float>(params.voxel_size));
+    // Non-finite points (only possible when the cloud did not come from io, which drops them)
+    // would poison the voxel keys and the tree.
+    const bool finite = std::all_of(
+        cloud.points.begin(), cloud.points.end(), [](const Vec3f& p) { return p.allFinite(); });
+    PointCloud filtered;
+    if (finite) {
+        filtered = voxelDownsample(cloud, static_cast<float>(params.voxel_size));
+    } else {
+        PointCloud clean = cloud;
+        io::dropNonFinite(clean);
+        filtered = voxelDownsample(clean, static_cast<float>(params.voxel_size));
+    }
     impl_->points = std::move(filtered.points);
     impl_->adaptor.pts = &impl_->points;
     impl_->tree = std::make_unique<detail::KdTree>(

@@ -23,6 +23,10 @@ struct MapBuildOptions {
     /// [s] a scan whose time is not within the poses' span (or lies in a gap longer than this)
     /// gets no pose and is skipped (counted)
     double max_pose_gap = 5.0;
+    /// Also compute each map point's normal (PCA of its 10 nearest map points within
+    /// max(0.5 m, 5 voxels)), flipped toward the side its scans saw it from, and store it in the
+    /// output (PriorMap::load then orients its normals the same way).
+    bool normals = true;
     io::RawlogParams rawlog_params;  ///< labels ([rawlog] section)
 };
 
@@ -32,6 +36,7 @@ struct MapBuildResult {
     size_t points_in = 0;           ///< scan points accumulated (after the range filter)
     size_t map_points = 0;          ///< points of the output map
     size_t poses = 0;               ///< poses available (TUM lines or rawlog `gt`)
+    double normals_seconds = 0;     ///< time spent on the normals
 };
 
 class MapBuilder : public mrpt::system::COutputLogger {
