@@ -1,0 +1,78 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/core/se3.h>
+#include <superloc/sim/odom_alt.h>
+
+#include <cmath>
+
+namespace superloc::sim {
+
+void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(label, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(rate_hz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(drift_per_m, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(drift_per_rad, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(trans_noise, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(rot_noise_deg, double, c, s);
+}
+
+void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "write odom_alt observations");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(label, "CObservationRobotPose label");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rate_hz, "[Hz]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(drift_per_m, "[m/m] translation drift per metre travelled");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(drift_per_rad, "[rad/rad] rotation drift per radian turned");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(trans_noise, "[m] 1-sigma white noise per increment");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rot_noise_deg, "[deg] 1-sigma white noise per increment");
+}
+
+void OdomAltParams::validate() const {
+    if (!(rate_hz >= 1 && rate_hz <= 200)) throw ConfigError("[odom_alt] rate_hz must be in [1, 200]");
+    if (!(drift_per_m >= 0 && drift_per_rad >= 0 && trans_noise >= 0 && rot_noise_deg >= 0))
+        throw ConfigError("[odom_alt] drift and noise values must be >= 0");
+}
+
+OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed) : p_(p), rng_(seed) {
+    const auto unit = [&] {
+        Vec3d v(n01_(rng_), n01_(rng_), n01_(rng_));
+        return Vec3d(v / std::max(1e-9, v.norm()));
+    };
+    u_ = unit();
+    w_ = unit();
+}
+
+PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_lidar) {
+    PoseStamped out;
+    out.t = t;
+    if (first_) {
+        first_ = false;
+        odom_ = SE3d::Identity();
+    } else {
+        const SE3d dT = last_gt_.inverse() * T_map_lidar;
+        const double d = dT.translation().norm();
+        const double a = logSO3(dT.linear()).norm();
+        dist_ += d;
+        angle_ += a;
+        const Vec3d nt(n01_(rng_), n01_(rng_), n01_(rng_)), nr(n01_(rng_), n01_(rng_), n01_(rng_));
+        const Vec3d dt = p_.drift_per_m * d * u_ + p_.trans_noise * nt;
+        const Vec3d dr = p_.drift_per_rad * a * w_ + (p_.rot_noise_deg * M_PI / 180) * nr;
+        SE3d E = SE3d::Identity();
+        E.linear() = expSO3(dr);
+        E.translation() = dt;
+        odom_ = orthonormalize(odom_ * dT * E);
+    }
+    ++count_;
+    last_gt_ = T_map_lidar;
+    // Reported uncertainty: the accumulated drift bound plus the accumulated white noise.
+    const double st = p_.drift_per_m * dist_ + p_.trans_noise * std::sqrt(double(count_));
+    const double sr =
+        p_.drift_per_rad * angle_ + (p_.rot_noise_deg * M_PI / 180) * std::sqrt(double(count_));
+    Mat6d cov = Mat6d::Zero();
+    cov.diagonal() << Vec3d::Constant(std::max(st * st, 1e-8)), Vec3d::Constant(std::max(sr * sr, 1e-10));
+    out.pose = odom_;
+    out.cov = cov;
+    return out;
+}
+
+}  // namespace superloc::sim

@@ -1,0 +1,185 @@
+#include <superloc/core/config.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/rawlog.h>
+#include <superloc/io/tum.h>
+#include <superloc/sim/noise.h>
+#include <superloc/sim/raycaster.h>
+#include <superloc/sim/sim_app.h>
+#include <superloc/sim/surface.h>
+#include <superloc/sim/topview.h>
+#include <superloc/sim/worlds.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+namespace superloc::sim {
+
+SimApp::SimApp() : mrpt::system::COutputLogger("superloc-sim") {}
+
+std::string SimApp::usage() {
+    return "Usage: superloc-sim CONFIG.ini [--out DIR] [--seed N] [--set section.key=value]... [--help]\n"
+           "Simulates a LiDAR + IMU + odom_alt sequence in a synthetic world (ini/sim/*.ini).\n"
+           "Writes DIR/sequence.rawlog, gt_tum.txt, gt_map.ply, prior_map.pcd, topview.svg, config.ini\n"
+           "(DIR defaults to ./sim-out). --seed overrides [sim] seed; --set overrides any INI key.\n";
+}
+
+bool SimApp::initialize(int argc, const char* const* argv) {
+    std::string ini, out = "sim-out", seed;
+    std::vector<std::string> sets;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw std::runtime_error("option " + a + " needs a value (see --help)");
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") return false;
+        if (a == "--out") out = value();
+        else if (a == "--seed") seed = value();
+        else if (a == "--set") sets.push_back(value());
+        else if (!a.empty() && a[0] == '-') throw std::runtime_error("unknown option '" + a + "' (see --help)");
+        else if (ini.empty()) ini = a;
+        else throw std::runtime_error("unexpected argument '" + a + "' (one CONFIG.ini only)");
+    }
+    if (ini.empty()) throw std::runtime_error("missing CONFIG.ini (see --help)");
+    if (!seed.empty()) {
+        if (seed.find_first_not_of("0123456789") != std::string::npos || seed.size() > 19)
+            throw std::runtime_error("--seed '" + seed + "': expected a non-negative integer");
+        sets.push_back("sim.seed=" + seed);
+    }
+    initialize(loadSimConfig(ini, sets), out);
+    return true;
+}
+
+void SimApp::initialize(SimConfig cfg, const std::string& out_dir) {
+    cfg_ = std::move(cfg);
+    out_dir_ = out_dir;
+}
+
+SimSummary SimApp::run() {
+    namespace fs = std::filesystem;
+    const SimConfig& c = cfg_;
+    const uint64_t seed = c.sim.seed;
+    SimSummary sum;
+
+    World world;
+    try {
+        world = buildWorld(c.sim.world, c.ini, c.source, seed, c.trajectory.body_height);
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        throw ConfigError(msg.rfind(c.source, 0) == 0 ? msg : c.source + ": " + msg);
+    }
+    sum.mesh_triangles = world.mesh.size();
+    const DensePath path = makeDensePath(world.route, c.trajectory.limits());
+    const SmoothTrajectory traj(path, c.trajectory, c.sim.start_time, c.sim.duration);
+    const double t0 = traj.startTime(), t1 = traj.endTime();
+    sum.duration = t1 - t0;
+    MRPT_LOG_INFO_STREAM("world " << world.name << ": " << world.mesh.size() << " triangles, route "
+                                  << path.length() << " m, sequence " << sum.duration << " s");
+    const RayCaster caster(world.mesh);
+
+    std::error_code ec;
+    fs::create_directories(out_dir_, ec);
+    if (!fs::is_directory(out_dir_)) throw std::runtime_error(out_dir_ + ": cannot create output folder");
+    const auto out = [&](const char* name) { return (fs::path(out_dir_) / name).string(); };
+
+    // Sequence: IMU, odom_alt, LiDAR sweeps and gt merged in time order (integer tick counters).
+    io::RawlogWriter rawlog(out("sequence.rawlog"));
+    ImuSimulator imu(c.imu, streamSeed(seed, "imu"));
+    OdomAltSimulator odom(c.odom_alt, streamSeed(seed, "odom_alt"));
+    std::mt19937_64 lidar_rng(streamSeed(seed, "lidar"));
+    const SE3d T_imu_lidar = c.lidar.T_imu_lidar();
+    const double period = c.lidar.period();
+    const size_t n_imu = static_cast<size_t>(std::floor((t1 - t0) * c.imu.rate_hz + 1e-9)) + 1;
+    const size_t n_scan = static_cast<size_t>(std::floor((t1 - t0) / period + 1e-9));
+    const size_t n_odom = c.odom_alt.enabled
+                              ? static_cast<size_t>(std::floor((t1 - t0) * c.odom_alt.rate_hz + 1e-9)) + 1
+                              : 0;
+    Trajectory gt;
+    size_t i_imu = 0, i_odom = 0, i_scan = 0;
+    std::vector<Vec3d> positions;
+    Vec3d last_pos = traj.pose(t0).translation();
+    while (i_imu < n_imu || i_odom < n_odom || i_scan < n_scan) {
+        const double t_imu = i_imu < n_imu ? t0 + i_imu / c.imu.rate_hz : 1e300;
+        const double t_odom = i_odom < n_odom ? t0 + i_odom / c.odom_alt.rate_hz : 1e300;
+        const double t_scan = i_scan < n_scan ? t0 + (i_scan + 1) * period : 1e300;
+        if (t_imu <= t_odom && t_imu <= t_scan) {
+            const BodyState s = traj.at(t_imu);
+            rawlog.writeImu(imu.sample(s), c.imu.label);
+            sum.max_speed = std::max(sum.max_speed, s.vel.norm());
+            sum.max_yaw_rate = std::max(sum.max_yaw_rate, std::abs(s.omega_body.z()));
+            sum.path_length += (s.T_map_body.translation() - last_pos).norm();
+            last_pos = s.T_map_body.translation();
+            if (i_imu % 20 == 0) positions.push_back(last_pos);
+            ++i_imu;
+        } else if (t_odom <= t_scan) {
+            rawlog.writePose(odom.step(t_odom, traj.pose(t_odom) * T_imu_lidar), c.odom_alt.label);
+            ++i_odom;
+        } else {
+            const Scan scan = simulateSweep(caster, world.mesh, traj, c.lidar, t_scan, lidar_rng);
+            rawlog.writeScan(scan, c.lidar.label);
+            PoseStamped g;
+            g.t = t_scan;
+            g.pose = traj.pose(t_scan) * T_imu_lidar;
+            rawlog.writePose(g, "gt");
+            gt.push_back(g);
+            sum.points += scan.size();
+            ++i_scan;
+            if (on_progress) on_progress(0.9 * i_scan / std::max<size_t>(1, n_scan));
+        }
+    }
+    rawlog.close();
+    sum.scans = n_scan;
+    sum.imu = n_imu;
+    sum.odom_alt = n_odom;
+    io::saveTum(out("gt_tum.txt"), gt);
+
+    // Maps: survey sampling near the trajectory, and the prior map a user would be given.
+    positions.push_back(traj.pose(t1).translation());
+    {
+        const NearMask near(positions, c.sim.gt_map_max_distance);
+        PointCloud gt_map = sampleSurface(world.mesh, c.sim.gt_map_spacing, streamSeed(seed, "gt_map"),
+                                          [&](const Vec3f& p) { return near.contains(p); });
+        gt_map.normals.clear();
+        sum.gt_map_points = gt_map.size();
+        io::savePointCloud(out("gt_map.ply"), gt_map);
+    }
+    if (on_progress) on_progress(0.95);
+    {
+        const NearMask near(positions, c.sim.prior_map_max_distance);
+        const double spacing = std::min(0.05, c.sim.prior_map_voxel / 3);
+        const PointCloud samples = sampleSurface(world.mesh, spacing, streamSeed(seed, "prior_samples"),
+                                                 [&](const Vec3f& p) { return near.contains(p); });
+        const PointCloud prior = makePriorMap(samples, c.sim.prior_map_voxel, c.sim.prior_map_noise,
+                                              c.sim.prior_map_warp, streamSeed(seed, "prior_map"));
+        sum.prior_map_points = prior.size();
+        io::savePointCloud(out("prior_map.pcd"), prior);
+    }
+
+    // Documentation outputs: top view and the effective configuration.
+    TopViewOptions tv;
+    tv.title = world.name + " (seed " + std::to_string(seed) + "): " +
+               std::to_string(static_cast<int>(std::round(sum.path_length))) + " m in " +
+               std::to_string(static_cast<int>(std::round(sum.duration))) + " s, " + c.trajectory.platform;
+    std::ofstream(out("topview.svg")) << topViewSvg(world.mesh, positions, tv);
+    {
+        SimConfig eff = c;
+        c.sim.saveToConfigFile(eff.ini, "sim");
+        c.trajectory.saveToConfigFile(eff.ini, "trajectory");
+        LidarParams lidar = c.lidar;
+        lidar.preset.clear();  // its keys are all written below
+        lidar.saveToConfigFile(eff.ini, "lidar");
+        c.imu.saveToConfigFile(eff.ini, "imu");
+        c.odom_alt.saveToConfigFile(eff.ini, "odom_alt");
+        std::ofstream(out("config.ini")) << eff.ini.getContent();
+    }
+    if (on_progress) on_progress(1.0);
+    MRPT_LOG_INFO_STREAM("wrote " << out_dir_ << ": " << sum.scans << " sweeps (" << sum.points
+                                  << " points), " << sum.imu << " IMU, " << sum.odom_alt
+                                  << " odom_alt, gt_map " << sum.gt_map_points << " points, prior_map "
+                                  << sum.prior_map_points << " points");
+    return sum;
+}
+
+}  // namespace superloc::sim

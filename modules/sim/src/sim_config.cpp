@@ -1,0 +1,79 @@
+// Loading and validating the simulator's INI (sections [sim] [trajectory] [lidar] [imu]
+// [odom_alt] and one world section), with --set overrides and the [lidar] preset file.
+#include <superloc/core/config.h>
+#include <superloc/sim/sim_app.h>
+#include <superloc/sim/worlds.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace superloc::sim {
+namespace {
+
+std::string readText(const std::string& path, const std::string& what) {
+    std::ifstream in(path);
+    if (!in) throw ConfigError(path + ": cannot open " + what);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Prefixes a section-only validate() message with the file name.
+template <class P>
+P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect, const std::string& source) {
+    try {
+        return loadParams<P>(cfg, sect, source);
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        if (msg.rfind(source, 0) == 0) throw;
+        throw ConfigError(source + ": " + msg);
+    }
+}
+
+}  // namespace
+
+SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::string>& overrides) {
+    SimConfig c;
+    c.source = ini_path;
+    c.ini.setContent(readText(ini_path, "the configuration file"));
+    for (const auto& o : overrides) applyOverride(c.ini, o);
+
+    std::vector<std::string> sections;
+    c.ini.getAllSections(sections);
+    std::vector<std::string> known = {"sim", "trajectory", "lidar", "imu", "odom_alt"};
+    known.insert(known.end(), worldNames().begin(), worldNames().end());
+    for (const auto& s : sections)
+        if (!s.empty() && std::find(known.begin(), known.end(), s) == known.end())
+            throw ConfigError(ini_path + ": unknown section [" + s + "]");
+
+    c.sim = load<SimParams>(c.ini, "sim", ini_path);
+    if (std::find(worldNames().begin(), worldNames().end(), c.sim.world) == worldNames().end())
+        throw ConfigError(ini_path + ": [sim] world = '" + c.sim.world +
+                          "' is unknown (corridor, cave, multifloor, openfield, office)");
+    c.trajectory = load<TrajectoryParams>(c.ini, "trajectory", ini_path);
+    c.imu = load<ImuParams>(c.ini, "imu", ini_path);
+    c.odom_alt = load<OdomAltParams>(c.ini, "odom_alt", ini_path);
+
+    // [lidar]: the preset's keys first, then this file's own keys on top.
+    validateSection(c.ini, "lidar", LidarParams(), ini_path);
+    const std::string preset = stripIniValue(c.ini.read_string("lidar", "preset", ""));
+    mrpt::config::CConfigFileMemory lidar_ini;
+    if (!preset.empty()) {
+        std::filesystem::path pp(preset);
+        if (pp.is_relative()) pp = std::filesystem::path(ini_path).parent_path() / pp;
+        if (!std::filesystem::exists(pp))
+            throw ConfigError(ini_path + ": [lidar] preset = '" + preset + "': file not found (" +
+                              pp.string() + ")");
+        lidar_ini.setContent(readText(pp.string(), "the LiDAR preset"));
+        validateSection(lidar_ini, "lidar", LidarParams(), pp.string());
+    }
+    std::vector<std::string> keys;
+    c.ini.getAllKeys("lidar", keys);
+    for (const auto& k : keys) lidar_ini.write("lidar", k, c.ini.read_string("lidar", k, ""));
+    c.lidar = load<LidarParams>(lidar_ini, "lidar", ini_path);
+    return c;
+}
+
+}  // namespace superloc::sim
