@@ -33,18 +33,19 @@ double median(std::vector<float> v) {
 }  // namespace
 
 std::string oneLineMessage(const std::exception& e) {
+    // exception_to_str() frames messages with "==== (non-)MRPT exception ====" lines and MRPT
+    // adds a call trace: keep the first line with content, cut before any "====" frame.
     const std::string text = mrpt::exception_to_str(e);
-    size_t begin = 0;
-    while (begin < text.size()) {
-        size_t end = text.find('\n', begin);
-        if (end == std::string::npos) end = text.size();
-        std::string line = text.substr(begin, end - begin);
-        if (line.find_first_not_of(" \t\r=") != std::string::npos &&
-            line.find("MRPT exception") == std::string::npos)
-            return line;
-        begin = end + 1;
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+        const size_t frame = line.find("====");
+        if (frame != std::string::npos) line.erase(frame);
+        while (!line.empty() && std::string(" \t\r:").find(line.back()) != std::string::npos)
+            line.pop_back();
+        if (!line.empty()) return line;
     }
-    return text;
+    return "unknown error";
 }
 
 std::string mapAppUsage() {
