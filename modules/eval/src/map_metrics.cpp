@@ -37,6 +37,7 @@ MapResult computeMapOutliers(
     MapResult r;
     r.points = keep.size();
     r.gt_points = gt_map.size();
+    r.threshold = threshold;
     std::vector<double> dist(keep.size());
     size_t outliers = 0;
     double sum = 0;

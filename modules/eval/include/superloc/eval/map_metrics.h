@@ -13,6 +13,7 @@ struct MapResult {
     double outlier_percent = 0;  ///< [%] points farther than the threshold from the GT map
     double median_dist = 0;      ///< [m] median nearest-neighbour distance to the GT map
     double mean_dist = 0;        ///< [m]
+    double threshold = 0;        ///< [m] the outlier threshold used
 };
 
 /// Voxelizes `est_map` at `voxel` [m] (0 = keep all), then for each point finds the nearest

@@ -1,0 +1,17 @@
+// superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (DESIGN §8).
+#include <superloc/eval/bench_app.h>
+#include <superloc/eval/eval_app.h>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+    try {
+        superloc::eval::BenchApp app;
+        app.data_dir = SUPERLOC_DEFAULT_DATA;
+        app.initialize(std::vector<std::string>(argv + 1, argv + argc));
+        return app.run(std::cout);
+    } catch (const std::exception& e) {
+        std::cerr << "superloc-bench: " << superloc::eval::oneLineError(e) << "\n";
+        return 1;
+    }
+}
