@@ -101,3 +101,14 @@ TEST(Svg, PlotsAreCompleteDocuments) {
     EXPECT_EQ(gammaColor(0), "hsl(0,85%,42%)");
     EXPECT_EQ(gammaColor(1), "hsl(120,85%,42%)");
 }
+
+// A free-text column with a comma shifts the later columns: stage times of that row are
+// skipped, the leading columns still count.
+TEST(FrameLog, ShiftedRowsKeepLeadingColumns) {
+    const std::string dir = superloc::testing::freshDir("eval_frame_log_shift");
+    const std::string path = dir + "/frames.csv";
+    { std::ofstream(path) << "t,ms_total,reason,ms_solve\n1,10,fine,4\n2,12,a,b,5\n"; }
+    const FrameLog log = loadFrameLog(path);
+    EXPECT_EQ(log.stage_ms.at("ms_total"), (std::vector<double>{10, 12}));
+    EXPECT_EQ(log.stage_ms.at("ms_solve"), (std::vector<double>{4}));
+}

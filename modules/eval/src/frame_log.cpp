@@ -80,8 +80,11 @@ FrameLog loadFrameLog(const std::string& path) {
                 throw std::runtime_error(where + e.what());
             }
         }
+        // Per-stage times only from rows whose cell count matches the header (a free-text
+        // column holding a comma would shift them); t, gamma and ms_total come first.
         for (const auto& [name, k] : col)
-            if (name.rfind("ms_", 0) == 0) log.stage_ms[name].push_back(number(name));
+            if (name.rfind("ms_", 0) == 0 && (name == "ms_total" || cells.size() == header.size()))
+                log.stage_ms[name].push_back(number(name));
         log.frames.push_back(f);
     }
     return log;

@@ -19,7 +19,8 @@ struct FrameRecord {
 
 struct FrameLog {
     std::vector<FrameRecord> frames;
-    /// Every `ms_*` column (ms_total included), one value per frame [ms].
+    /// Every `ms_*` column (ms_total included) [ms]; a row with more or fewer cells than the
+    /// header adds only to ms_total.
     std::map<std::string, std::vector<double>> stage_ms;
     bool has_gamma = false;  ///< the file had the six gamma_* columns
 };
