@@ -96,9 +96,14 @@ TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {
 }
 
 TEST(Classify, PlaneLinePoint) {
-    EXPECT_EQ(classifyShape(0.9f, 0.05f, 0.5, 0.7), FeatureType::Plane);
-    EXPECT_EQ(classifyShape(0.1f, 0.85f, 0.5, 0.7), FeatureType::Line);
-    EXPECT_EQ(classifyShape(0.3f, 0.3f, 0.5, 0.7), FeatureType::Point);
+    // l1 : l2 : l3 = 1 : 0.9 : 0.01 -> planarity 0.89, linearity 0.1: a plane.
+    EXPECT_EQ(classifyShape(0.89f, 0.1f, 0.1, 0.7), FeatureType::Plane);
+    // An elongated but thin patch, 1 : 0.2 : 0.005, is still a plane (low planarity 0.195).
+    EXPECT_EQ(classifyShape(0.195f, 0.8f, 0.1, 0.7), FeatureType::Plane);
+    // 1 : 0.05 : 0.04 -> a line; 1 : 0.8 : 0.6 -> a blob (point).
+    EXPECT_EQ(classifyShape(0.01f, 0.95f, 0.1, 0.7), FeatureType::Line);
+    EXPECT_EQ(classifyShape(0.2f, 0.2f, 0.1, 0.7), FeatureType::Point);
+    EXPECT_NEAR(shapeThickness(0.2f, 0.2f), 0.75f, 1e-6f);
 }
 
 TEST(FeaturesParams, RejectsBadValues) {

@@ -9,9 +9,20 @@ namespace superloc::features {
 
 enum class FeatureType : uint8_t { Point = 0, Line = 1, Plane = 2 };
 
-/// Plane when planarity >= plane_min; else line when linearity >= line_min; else point.
-inline FeatureType classifyShape(float planarity, float linearity, double plane_min, double line_min) {
-    if (planarity >= plane_min) return FeatureType::Plane;
+/// Thickness l3 / l2 of a neighbourhood from its shape factors (1 when l2 vanishes).
+inline float shapeThickness(float planarity, float linearity) {
+    const float r2 = 1.0f - linearity;              // l2 / l1
+    const float r3 = 1.0f - linearity - planarity;  // l3 / l1
+    return r2 > 1e-6f ? r3 / r2 : 1.0f;
+}
+
+/// Plane when the neighbourhood is thin (l3 / l2 <= plane_max_thickness) and not a mere strip
+/// (l2 / l1 >= 0.05); else line when linearity >= line_min; else point. (Planarity alone
+/// would call the elongated plane patches of ring-structured LiDAR maps "not planar".)
+inline FeatureType classifyShape(float planarity, float linearity, double plane_max_thickness,
+                                 double line_min) {
+    if (shapeThickness(planarity, linearity) <= plane_max_thickness && 1.0f - linearity >= 0.05f)
+        return FeatureType::Plane;
     if (linearity >= line_min) return FeatureType::Line;
     return FeatureType::Point;
 }

@@ -9,13 +9,13 @@ namespace superloc::features {
 
 struct FeaturesParams : public mrpt::config::CLoadableOptions {
     double min_range = 1.0;     ///< [m] points closer to the sensor are dropped (robot body)
-    double max_range = 120.0;   ///< [m] points farther are dropped
+    double max_range = 100.0;   ///< [m] points farther are dropped
     bool deskew = true;         ///< undo the motion during the sweep (needs per-point time)
     double voxel_size = 0.5;    ///< [m] one candidate point per voxel of this size
     int max_features = 2000;    ///< cap on features per scan, taken evenly over the candidates
     int map_points_stride = 1;  ///< keep every n-th candidate for the localized map output
     /// classification of a neighbourhood from its PCA shape factors (see classify.h)
-    double plane_min_planarity = 0.5;  ///< [-] planarity above this: plane
+    double plane_max_thickness = 0.5;  ///< [-] l3/l2 below this: plane
     double line_min_linearity = 0.7;   ///< [-] linearity above this (and not a plane): line
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;

@@ -1,0 +1,46 @@
+// Data association with the prior map at a pose (DESIGN §4 step 3; paper §III-A): for each
+// scan feature, the nearest map point and its precomputed neighbourhood geometry decide a
+// point-to-plane, point-to-line or point-to-point correspondence with a fit weight.
+#pragma once
+
+#include <superloc/fusion/scan_factor.h>
+#include <superloc/map/prior_map.h>
+
+#include <vector>
+
+namespace superloc::localization {
+
+struct AssociationParams {
+    double max_dist = 1.0;             ///< [m] nearest map point farther: no correspondence
+    double plane_max_thickness = 0.1;  ///< see features::classifyShape
+    double line_min_linearity = 0.7;
+    double max_fit_residual = 0.1;     ///< [m] plane fit RMS giving weight 0
+    double point_weight = 0.1;         ///< weight of a point-to-point correspondence
+    size_t line_knn = 6;               ///< neighbours used for a line's direction
+};
+
+struct AssociationStats {
+    size_t plane = 0, line = 0, point = 0;  ///< correspondences by type
+    size_t too_far = 0;                     ///< features without a map point within max_dist
+    size_t total() const { return plane + line + point; }
+};
+
+/// Appends (after clearing) one correspondence per associated feature to `out`; `feature_of`
+/// (if not null) receives the feature index of each correspondence. pts_body are the features
+/// in the body frame, T_map_body the pose to associate at.
+void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
+               const map::PriorMap& map, const AssociationParams& p,
+               std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+               std::vector<uint32_t>* feature_of = nullptr);
+
+/// Fraction of features whose nearest-map-point residual (plane/line/point distance of their
+/// correspondence) is below `inlier_dist` at T_map_body, and the RMS of those residuals.
+struct InlierStats {
+    double ratio = 0;
+    double rms = 0;   ///< [m] over inliers
+    size_t inliers = 0;
+};
+InlierStats inlierStats(const std::vector<fusion::ScanCorrespondence>& corr, size_t n_features,
+                        const SE3d& T_map_body, double inlier_dist);
+
+}  // namespace superloc::localization

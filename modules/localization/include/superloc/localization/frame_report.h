@@ -1,0 +1,61 @@
+// What the Localizer reports for every scan (DESIGN §4 step 6). "Diverged" and "not converged"
+// are fields, never exceptions.
+#pragma once
+
+#include <superloc/core/types.h>
+#include <superloc/imu/preintegration.h>
+
+#include <array>
+#include <string>
+
+namespace superloc::localization {
+
+/// Wall time per pipeline stage [ms].
+struct StageTimes {
+    double predict = 0;     ///< IMU preintegration / constant-velocity prediction
+    double preprocess = 0;  ///< range filter, voxel selection, feature cap, deskew
+    double associate = 0;   ///< all association rounds (kd-tree queries, classification)
+    double risk = 0;        ///< alignment-risk analysis of the first association
+    double solve = 0;       ///< Ceres solves (or the NDT registration)
+    double total = 0;       ///< whole process() call
+};
+
+struct FrameReport {
+    size_t index = 0;
+    double t = 0;                      ///< [s] scan time (end of sweep)
+    SE3d T_map_lidar = SE3d::Identity();
+    SE3d T_map_imu = SE3d::Identity();
+    SE3d T_map_lidar_pred = SE3d::Identity();  ///< the prediction the frame started from
+    Vec3d velocity = Vec3d::Zero();    ///< [m/s] body velocity in map
+    imu::ImuBias bias;
+
+    // Alignment risk at the predicted pose (DESIGN §5): x y z roll pitch yaw.
+    Vec6d gamma = Vec6d::Zero();
+    std::array<bool, 6> degenerate{};
+    std::string degenerate_axes;       ///< flagged axes as letters ("x", "xyaw", "")
+    bool prior_used = false;           ///< a relative-pose prior entered the solve
+    Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
+
+    // Counts
+    size_t points_raw = 0;        ///< points in the scan
+    size_t points_valid = 0;      ///< after NaN/range filter
+    size_t candidates = 0;        ///< after voxel selection
+    size_t features = 0;          ///< used for association (capped)
+    size_t corr_plane = 0, corr_line = 0, corr_point = 0;  ///< last association, by type
+    size_t too_far = 0;           ///< features without a map point in range (last association)
+
+    // Quality
+    double inlier_ratio = 0;      ///< features with residual < inlier_dist at the final pose
+    double residual_rms = 0;      ///< [m] RMS residual of those inliers
+    int rounds = 0;               ///< association rounds run
+    int iterations = 0;           ///< solver iterations over all rounds
+    bool converged = false;       ///< last round's update below the thresholds
+    bool diverged = false;        ///< divergence detected (see reason)
+    std::string diverged_reason;  ///< "inliers", "jump", "no_correspondences", "solver", ...
+    bool used_imu = false;        ///< prediction and factor from IMU preintegration
+    bool deskewed = false;
+
+    StageTimes ms;
+};
+
+}  // namespace superloc::localization

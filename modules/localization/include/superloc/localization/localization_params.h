@@ -1,0 +1,50 @@
+// Localizer parameters; section [localization] of the INI.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+
+namespace superloc::localization {
+
+/// DESIGN §6. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion (issue 5).
+enum class Method { Icp, Ndt, SuperLoc, Passive, EigenRemap };
+Method methodFromString(const std::string& s);  ///< throws ConfigError listing the names
+const char* methodName(Method m);
+
+struct LocalizationParams : public mrpt::config::CLoadableOptions {
+    std::string method = "icp";  ///< icp | ndt | superloc | passive | eigen_remap
+    bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
+    std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
+
+    // Association (paper §III-A, DESIGN §4 step 3)
+    double max_corr_dist = 1.0;        ///< [m] map neighbour farther than this: no correspondence
+    double max_corr_dist_init = 3.0;   ///< [m] the same, for the first rounds of the first frame
+    int rounds = 4;                    ///< association + solve rounds per frame
+    int rounds_init = 40;              ///< rounds on the first frame (initial pose may be off)
+    double max_fit_residual = 0.1;     ///< [m] map plane fit RMS giving weight 0
+    /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
+    /// and slow to converge from a far initial pose, so off by default)
+    double point_weight = 0.0;
+    double converged_xyz = 0.002;      ///< [m] stop re-associating when the update is below...
+    double converged_deg = 0.02;       ///< [deg] ...both of these
+
+    // Divergence detection (reported per frame, the run goes on)
+    double inlier_dist = 0.2;          ///< [m] a feature is an inlier when its residual is below
+    double min_inlier_ratio = 0.3;     ///< [-] below: diverged
+    double max_jump_xyz = 1.0;         ///< [m] solved vs predicted pose farther: diverged
+    double max_jump_deg = 10.0;        ///< [deg] idem for the rotation
+
+    // method = ndt (PCL NormalDistributionsTransform as the registration step)
+    double ndt_resolution = 1.0;       ///< [m] NDT cell size
+    double ndt_step_size = 0.1;        ///< [m] More-Thuente line-search max step
+    double ndt_epsilon = 0.01;         ///< transformation epsilon
+    int ndt_max_iterations = 30;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    /// Throws ConfigError naming [localization] and the key when a value is out of range.
+    void validate() const;
+};
+
+}  // namespace superloc::localization

@@ -1,0 +1,111 @@
+// The Localizer: per-frame scan-to-map pipeline with IMU (DESIGN §4) and its state.
+//
+//   1. predict the pose at scan time (IMU preintegration, or constant velocity without IMU)
+//   2. deskew, filter, voxel-select and cap the features
+//   3. associate with the PriorMap at the predicted pose
+//   4. alignment risk of those correspondences (reported; the active prior is issue 5's)
+//   5. solve (Ceres: scan + IMU + prior factors), re-associate, repeat
+//   6. emit a FrameReport
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/system/COutputLogger.h>
+#include <superloc/features/features_params.h>
+#include <superloc/features/voxel_selector.h>
+#include <superloc/fusion/frame_problem.h>
+#include <superloc/fusion/fusion_params.h>
+#include <superloc/imu/imu_params.h>
+#include <superloc/localization/association.h>
+#include <superloc/localization/frame_report.h>
+#include <superloc/localization/localization_params.h>
+#include <superloc/map/prior_map.h>
+#include <superloc/risk/alignment_risk.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace superloc::localization {
+
+class NdtRegistration;
+
+/// Every section the Localizer reads, loaded and validated together.
+struct LocalizerParams {
+    LocalizationParams loc;
+    features::FeaturesParams features;
+    fusion::FusionParams fusion;
+    imu::ImuParams imu;
+    risk::RiskParams risk;
+
+    /// Loads [localization] [features] [fusion] [imu] [risk]; `source` names the file in errors.
+    static LocalizerParams load(const mrpt::config::CConfigFileBase& cfg, const std::string& source);
+    void save(mrpt::config::CConfigFileBase& cfg) const;
+};
+
+class Localizer : public mrpt::system::COutputLogger {
+   public:
+    /// Throws ConfigError for a method that is not available yet.
+    Localizer(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map);
+    ~Localizer() override;
+
+    /// Pose of the LiDAR at the first scan (T_map_lidar). Without it the first scan starts at
+    /// the identity.
+    void setInitialPose(const SE3d& T_map_lidar);
+    /// Samples must come in time order, before the scans they precede.
+    void addImu(const ImuSample& s);
+    /// Second odometry (odom_alt) poses, kept for the relative-pose prior (issue 5).
+    void addOdomAlt(const PoseStamped& p);
+
+    /// Runs the pipeline on one scan; never throws for bad data (see FrameReport::diverged).
+    FrameReport process(const Scan& scan);
+
+    /// Deskewed voxel candidates of the last processed scan, in the map frame at its estimate
+    /// (every features.map_points_stride-th), for the localized map output.
+    const std::vector<Vec3f>& lastMapPoints() const { return map_points_; }
+    const LocalizerParams& params() const { return params_; }
+    Method method() const { return method_; }
+
+   private:
+    struct Prediction {
+        SE3d T_map_imu = SE3d::Identity();
+        Vec3d v = Vec3d::Zero();
+        Vec3d w_body = Vec3d::Zero();   ///< [rad/s] angular rate for deskew
+        Vec3d v_body = Vec3d::Zero();   ///< [m/s] body-frame velocity for deskew
+        bool used_imu = false;
+    };
+    Prediction predict(double t, imu::Preintegration& pre);
+    void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
+    void solveIcp(const Prediction& pred, const imu::Preintegration* pre, bool first,
+                  FrameReport& rep);
+    void solveNdt(const SE3d& T_imu_lidar, FrameReport& rep);
+    void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
+    /// Issue 5 hook: the relative-pose prior for the current solve (none for icp / ndt).
+    std::optional<fusion::RelativePosePrior> activePrior(const risk::RiskReport& risk) const;
+    std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
+
+    LocalizerParams params_;
+    Method method_;
+    std::shared_ptr<const map::PriorMap> map_;
+    std::unique_ptr<NdtRegistration> ndt_;
+    AssociationParams assoc_;
+    fusion::RobustKernel kernel_;
+    Vec3d g_map_;
+
+    std::vector<ImuSample> imu_;
+    Trajectory odom_alt_;
+    std::optional<SE3d> initial_T_map_lidar_;
+    bool have_prev_ = false;
+    fusion::FrameState prev_, cur_;
+    std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
+    size_t frames_ = 0;
+
+    // Per-frame scratch (kept to avoid allocations in the hot path).
+    features::VoxelSelector selector_;
+    std::vector<uint32_t> valid_, candidates_, feature_idx_, map_idx_;
+    std::vector<Vec3f> deskewed_, map_points_;
+    std::vector<Vec3d> pts_body_;
+    std::vector<fusion::ScanCorrespondence> corr_;
+    AssociationStats last_stats_;
+};
+
+}  // namespace superloc::localization

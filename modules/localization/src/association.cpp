@@ -1,0 +1,86 @@
+#include <superloc/features/classify.h>
+#include <superloc/localization/association.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace superloc::localization {
+
+using features::FeatureType;
+
+void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
+               const map::PriorMap& map, const AssociationParams& p,
+               std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+               std::vector<uint32_t>* feature_of) {
+    out.clear();
+    stats = {};
+    if (feature_of) feature_of->clear();
+    if (map.size() == 0) return;
+    const float max_d2 = static_cast<float>(p.max_dist * p.max_dist);
+    const Mat3d R = T_map_body.linear();
+    const Vec3d t = T_map_body.translation();
+    map::Neighbors nb;
+    for (uint32_t i = 0; i < pts_body.size(); ++i) {
+        const Vec3d x = R * pts_body[i] + t;
+        const auto [j, d2] = map.nearest(x.cast<float>());
+        if (d2 > max_d2) {
+            ++stats.too_far;
+            continue;
+        }
+        const map::PointGeometry& g = map.geometry(j);
+        fusion::ScanCorrespondence c;
+        c.p = pts_body[i];
+        c.q = map.point(j).cast<double>();
+        c.type = features::classifyShape(g.planarity, g.linearity, p.plane_max_thickness,
+                                         p.line_min_linearity);
+        if (c.type == FeatureType::Plane) {
+            c.n = g.normal.cast<double>();
+            if (c.n.squaredNorm() < 0.5) continue;
+            c.weight = std::max(0.0, 1.0 - g.fit_residual / p.max_fit_residual);
+            ++stats.plane;
+        } else if (c.type == FeatureType::Line) {
+            // Line direction: principal axis of the map neighbourhood.
+            map.knn(x.cast<float>(), p.line_knn, nb);
+            if (nb.indices.size() < 3) continue;
+            Vec3d mean = Vec3d::Zero();
+            for (uint32_t k : nb.indices) mean += map.point(k).cast<double>();
+            mean /= static_cast<double>(nb.indices.size());
+            Mat3d C = Mat3d::Zero();
+            for (uint32_t k : nb.indices) {
+                const Vec3d d = map.point(k).cast<double>() - mean;
+                C += d * d.transpose();
+            }
+            Eigen::SelfAdjointEigenSolver<Mat3d> es;
+            es.computeDirect(C);
+            c.n = es.eigenvectors().col(2).normalized();
+            c.q = mean;
+            c.weight = g.linearity;
+            ++stats.line;
+        } else {
+            c.weight = p.point_weight;
+            ++stats.point;
+        }
+        if (c.weight <= 0) continue;
+        out.push_back(c);
+        if (feature_of) feature_of->push_back(i);
+    }
+}
+
+InlierStats inlierStats(const std::vector<fusion::ScanCorrespondence>& corr, size_t n_features,
+                        const SE3d& T_map_body, double inlier_dist) {
+    InlierStats s;
+    double sum2 = 0;
+    for (const auto& c : corr) {
+        const double e = fusion::correspondenceError(c, T_map_body);
+        if (e <= inlier_dist) {
+            ++s.inliers;
+            sum2 += e * e;
+        }
+    }
+    s.ratio = n_features ? static_cast<double>(s.inliers) / static_cast<double>(n_features) : 0.0;
+    s.rms = s.inliers ? std::sqrt(sum2 / static_cast<double>(s.inliers)) : 0.0;
+    return s;
+}
+
+}  // namespace superloc::localization

@@ -1,0 +1,98 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/localization/localization_params.h>
+
+namespace superloc::localization {
+
+Method methodFromString(const std::string& s) {
+    if (s == "icp") return Method::Icp;
+    if (s == "ndt") return Method::Ndt;
+    if (s == "superloc") return Method::SuperLoc;
+    if (s == "passive") return Method::Passive;
+    if (s == "eigen_remap") return Method::EigenRemap;
+    throw ConfigError("[localization] method = '" + s +
+                      "' is unknown (use icp, ndt, superloc, passive or eigen_remap)");
+}
+
+const char* methodName(Method m) {
+    switch (m) {
+        case Method::Icp: return "icp";
+        case Method::Ndt: return "ndt";
+        case Method::SuperLoc: return "superloc";
+        case Method::Passive: return "passive";
+        case Method::EigenRemap: return "eigen_remap";
+    }
+    return "?";
+}
+
+void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    method = c.read_string(s, "method", method);
+    MRPT_LOAD_CONFIG_VAR(use_imu, bool, c, s);
+    output_frame = c.read_string(s, "output_frame", output_frame);
+    MRPT_LOAD_CONFIG_VAR(max_corr_dist, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_corr_dist_init, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(converged_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(inlier_dist, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(min_inlier_ratio, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_jump_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_jump_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(ndt_resolution, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(ndt_step_size, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(ndt_epsilon, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(ndt_max_iterations, int, c, s);
+}
+
+void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(method, "icp | ndt | superloc | passive | eigen_remap");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(use_imu, "IMU prediction + preintegration factor when available");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(output_frame, "reported poses: lidar (T_map_lidar) or body");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map neighbour");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] the same on the first frame's rounds");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "association + solve rounds per frame");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "rounds on the first frame");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(inlier_dist, "[m] feature residual below: inlier");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_deg, "[deg] solved vs predicted rotation: diverged");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_resolution, "[m] NDT cell size (method=ndt)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_step_size, "[m] NDT line-search step");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_epsilon, "NDT transformation epsilon");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_max_iterations, "NDT max iterations");
+}
+
+void LocalizationParams::validate() const {
+    methodFromString(method);
+    if (output_frame != "lidar" && output_frame != "body")
+        throw ConfigError("[localization] output_frame = '" + output_frame + "' (use lidar or body)");
+    const auto positive = [](double v, const char* key) {
+        if (!(v > 0)) throw ConfigError(std::string("[localization] ") + key + " must be > 0");
+    };
+    positive(max_corr_dist, "max_corr_dist");
+    positive(max_corr_dist_init, "max_corr_dist_init");
+    if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");
+    if (rounds_init < 1) throw ConfigError("[localization] rounds_init must be >= 1");
+    positive(max_fit_residual, "max_fit_residual");
+    if (point_weight < 0) throw ConfigError("[localization] point_weight must be >= 0");
+    positive(converged_xyz, "converged_xyz");
+    positive(converged_deg, "converged_deg");
+    positive(inlier_dist, "inlier_dist");
+    if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1))
+        throw ConfigError("[localization] min_inlier_ratio must be in [0, 1]");
+    positive(max_jump_xyz, "max_jump_xyz");
+    positive(max_jump_deg, "max_jump_deg");
+    positive(ndt_resolution, "ndt_resolution");
+    positive(ndt_step_size, "ndt_step_size");
+    positive(ndt_epsilon, "ndt_epsilon");
+    if (ndt_max_iterations < 1) throw ConfigError("[localization] ndt_max_iterations must be >= 1");
+}
+
+}  // namespace superloc::localization

@@ -1,0 +1,359 @@
+#include <superloc/core/config.h>
+#include <superloc/core/se3.h>
+#include <superloc/features/deskew.h>
+#include <superloc/imu/rest_init.h>
+#include <superloc/localization/localizer.h>
+#include <superloc/localization/ndt_registration.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace superloc::localization {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+constexpr double kDeg = M_PI / 180.0;
+constexpr size_t kMinCorrespondences = 10;
+}  // namespace
+
+Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map)
+    : mrpt::system::COutputLogger("Localizer"),
+      params_(params),
+      method_(methodFromString(params.loc.method)),
+      map_(std::move(map)),
+      kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
+      g_map_(0, 0, -params.imu.gravity) {
+    if (method_ == Method::SuperLoc || method_ == Method::Passive || method_ == Method::EigenRemap)
+        throw ConfigError(std::string("[localization] method = ") + methodName(method_) +
+                          " is not implemented yet (alignment-risk fusion, issue 5); use icp or ndt");
+    if (!map_ || map_->size() == 0) throw ConfigError("Localizer: the prior map is empty");
+    assoc_.max_dist = params.loc.max_corr_dist;
+    assoc_.plane_max_thickness = params.features.plane_max_thickness;
+    assoc_.line_min_linearity = params.features.line_min_linearity;
+    assoc_.max_fit_residual = params.loc.max_fit_residual;
+    assoc_.point_weight = params.loc.point_weight;
+    if (method_ == Method::Ndt) {
+        NdtParams np;
+        np.resolution = params.loc.ndt_resolution;
+        np.step_size = params.loc.ndt_step_size;
+        np.epsilon = params.loc.ndt_epsilon;
+        np.max_iterations = params.loc.ndt_max_iterations;
+        ndt_ = std::make_unique<NdtRegistration>(map_->points(), np);
+    }
+}
+
+Localizer::~Localizer() = default;
+
+void Localizer::setInitialPose(const SE3d& T_map_lidar) { initial_T_map_lidar_ = T_map_lidar; }
+
+void Localizer::addImu(const ImuSample& s) {
+    if (!imu_.empty() && s.t <= imu_.back().t) return;  // duplicates / out of order: ignored
+    imu_.push_back(s);
+}
+
+void Localizer::addOdomAlt(const PoseStamped& p) {
+    if (!odom_alt_.empty() && p.t <= odom_alt_.back().t) return;
+    odom_alt_.push_back(p);
+}
+
+Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
+    Prediction pr;
+    const bool imu_covers = params_.loc.use_imu && !imu_.empty() && imu_.front().t <= prev_.t + 0.05 &&
+                            imu_.back().t >= t - 0.05;
+    if (imu_covers && imu::integrateInterval(imu_, prev_.t, t, pre) > 0) {
+        // Step 1 with IMU: Forster eq. 33 from the previous state.
+        const imu::NavState nav = pre.predict(prev_.nav(), prev_.bias(), g_map_);
+        pr.T_map_imu = nav.pose();
+        pr.v = nav.v;
+        pr.used_imu = true;
+        // Deskew twist: mean rate over the last sweep, velocity in the body frame.
+        Vec3d w = Vec3d::Zero();
+        int n = 0;
+        for (auto it = imu_.rbegin(); it != imu_.rend() && it->t >= t - 0.1; ++it, ++n) w += it->gyro;
+        pr.w_body = (n ? Vec3d(w / n) : Vec3d::Zero()) - prev_.bias().gyro;
+        pr.v_body = nav.R.transpose() * nav.v;
+        return pr;
+    }
+    // Step 1 without IMU: constant velocity from the last two estimates.
+    const SE3d T_prev = prev_.T_map_imu();
+    pr.T_map_imu = T_prev;
+    if (prev_prev_ && prev_.t > prev_prev_->t) {
+        const double dt_prev = prev_.t - prev_prev_->t;
+        const Vec6d xi = toVec6(prev_prev_->T_map_imu().inverse() * T_prev) / dt_prev;  // body twist
+        pr.T_map_imu = T_prev * fromVec6(xi * (t - prev_.t));
+        pr.v_body = xi.head<3>();
+        pr.w_body = xi.tail<3>();
+        pr.v = T_prev.linear() * pr.v_body;
+    }
+    return pr;
+}
+
+void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep) {
+    const auto& fp = params_.features;
+    rep.points_raw = scan.size();
+    // Step 2: NaN/range filter, one candidate per voxel, features spread evenly over the sweep.
+    features::rangeFilter(scan.points, static_cast<float>(fp.min_range), static_cast<float>(fp.max_range), valid_);
+    selector_.select(scan.points, valid_, static_cast<float>(fp.voxel_size), candidates_);
+    features::takeEvenly(candidates_, static_cast<size_t>(fp.max_features), feature_idx_);
+    rep.points_valid = valid_.size();
+    rep.candidates = candidates_.size();
+    rep.features = feature_idx_.size();
+
+    // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
+    features::SweepMotion motion;
+    if (fp.deskew && scan.rel_time.size() == scan.size() && !scan.empty()) {
+        const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
+        if (s_min < 0) {
+            const Mat3d R_il = scan.T_imu_lidar.linear();
+            const Vec3d w_l = R_il.transpose() * pred.w_body;
+            const Vec3d v_l = R_il.transpose() * (pred.v_body + pred.w_body.cross(scan.T_imu_lidar.translation()));
+            motion = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
+            rep.deskewed = true;
+        }
+    }
+    features::deskewPoints(scan.points, scan.rel_time, feature_idx_, motion, deskewed_);
+    pts_body_.resize(deskewed_.size());
+    for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
+
+    // Candidates kept for the localized map (lidar frame now, map frame after the solve).
+    map_idx_.clear();
+    for (size_t i = 0; i < candidates_.size(); i += static_cast<size_t>(fp.map_points_stride))
+        map_idx_.push_back(candidates_[i]);
+    features::deskewPoints(scan.points, scan.rel_time, map_idx_, motion, map_points_);
+}
+
+std::vector<risk::Correspondence> Localizer::riskInputs(const SE3d& T, const Vec3d& origin) const {
+    std::vector<risk::Correspondence> out;
+    out.reserve(corr_.size());
+    const Mat3d Rt = T.linear().transpose();
+    for (const auto& c : corr_) {
+        risk::Correspondence r;
+        r.p = c.p - origin;  // relative to the sensor, body axes
+        const Vec3d x = T * c.p;
+        Vec3d n;
+        switch (c.type) {
+            case features::FeatureType::Plane: n = c.n; r.type = risk::CorrespondenceType::Plane; break;
+            case features::FeatureType::Line: {
+                const Vec3d e = x - c.q;
+                n = e - e.dot(c.n) * c.n;
+                r.type = risk::CorrespondenceType::Line;
+                break;
+            }
+            default: n = x - c.q; r.type = risk::CorrespondenceType::Point; break;
+        }
+        n = Rt * n;
+        if (n.dot(r.p) > 0) n = -n;  // toward the sensor
+        r.n = n;
+        r.weight = c.weight;
+        out.push_back(r);
+    }
+    return out;
+}
+
+std::optional<fusion::RelativePosePrior> Localizer::activePrior(const risk::RiskReport&) const {
+    // icp and ndt use no prior; superloc / passive / eigen_remap fill this in (issue 5).
+    return std::nullopt;
+}
+
+void Localizer::solveIcp(const Prediction& pred, const imu::Preintegration* pre, bool first,
+                         FrameReport& rep) {
+    const auto& lp = params_.loc;
+    const fusion::FrameState prev_saved = prev_;
+    const bool wide = first || (!pre && !prev_prev_);
+    const int rounds = wide ? lp.rounds_init : lp.rounds;
+    // Coarse to fine: the search radius starts wide when the prediction may be far off (first
+    // frame; second frame without IMU: no velocity yet) and shrinks by 0.7 each time the pose
+    // settles at a radius; within a radius the robust kernel scale halves from radius/2 down to
+    // kernel_scale every round.
+    double radius = wide ? lp.max_corr_dist_init : lp.max_corr_dist;
+    int in_stage = 0;
+    last_stats_ = {};
+    corr_.clear();
+    std::optional<fusion::RelativePosePrior> prior;
+    for (int r = 0; r < rounds; ++r, ++in_stage) {
+        // Step 3: associate at the current estimate (the prediction on round 0).
+        AssociationParams ap = assoc_;
+        ap.max_dist = radius;
+        const double kernel =
+            std::max(params_.fusion.kernel_scale, 0.5 * radius * std::pow(0.5, in_stage));
+        const SE3d T_before = cur_.T_map_imu();
+        auto t0 = Clock::now();
+        associate(pts_body_, T_before, *map_, ap, corr_, last_stats_);
+        rep.ms.associate += msSince(t0);
+        if (r == 0) {
+            // Step 4: alignment risk at the predicted pose, before any optimisation (DESIGN §5).
+            t0 = Clock::now();
+            const auto risk = risk::computeAlignmentRisk(
+                riskInputs(T_before, Vec3d::Zero()), params_.risk);  // body origin = IMU
+            rep.gamma = risk.gamma;
+            rep.degenerate = risk.degenerate;
+            rep.degenerate_axes = risk::degenerateAxes(risk);
+            prior = activePrior(risk);
+            rep.ms.risk += msSince(t0);
+        }
+        if (corr_.size() < kMinCorrespondences && !pre) {
+            rep.diverged = true;
+            rep.diverged_reason = "no_correspondences";
+            break;
+        }
+        // Step 5: joint solve (paper eq. 12) with IRLS weights at the association pose.
+        t0 = Clock::now();
+        fusion::ScanFactor scan(corr_, params_.fusion.scan_sigma);
+        scan.setRobustWeights(T_before, kernel_, kernel);
+        prev_ = prev_saved;
+        fusion::FrameProblemInputs in;
+        in.prev = &prev_;
+        in.cur = &cur_;
+        in.scan = corr_.size() >= kMinCorrespondences ? &scan : nullptr;
+        in.imu = pre;
+        in.g_map = g_map_;
+        in.acc_bias_rw = params_.imu.acc_bias_rw;
+        in.gyro_bias_rw = params_.imu.gyro_bias_rw;
+        in.prior = prior;
+        const auto sum = fusion::solveFrame(in, params_.fusion);
+        rep.ms.solve += msSince(t0);
+        rep.rounds = r + 1;
+        rep.iterations += sum.iterations;
+        rep.prior_used = prior.has_value();
+        if (!sum.usable) {
+            rep.diverged = true;
+            rep.diverged_reason = "solver";
+            break;
+        }
+        const SE3d T_after = cur_.T_map_imu();
+        const bool small = translationDistance(T_before, T_after) < lp.converged_xyz &&
+                           rotationAngle(T_before, T_after) < lp.converged_deg * kDeg;
+        if (small && kernel <= params_.fusion.kernel_scale) {
+            if (radius <= lp.max_corr_dist) {
+                rep.converged = true;
+                break;
+            }
+            radius = std::max(lp.max_corr_dist, 0.7 * radius);
+            in_stage = -1;
+        }
+    }
+    if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
+    (void)pred;
+}
+
+void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
+    // The registration step is PCL's NDT from the predicted pose; everything else is shared.
+    const auto t0 = Clock::now();
+    const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
+    const AlignResult a = ndt_->align(deskewed_, guess);
+    rep.ms.solve += msSince(t0);
+    rep.rounds = 1;
+    rep.iterations = a.iterations;
+    rep.converged = a.converged;
+    cur_.setPose(a.T_target_source * T_imu_lidar.inverse());
+}
+
+void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep) {
+    const auto& lp = params_.loc;
+    const SE3d T = cur_.T_map_imu();
+    // Quality at the estimate from the last association (re-querying the map here would cost
+    // a whole association round; NDT has none, so it associates once).
+    if (method_ == Method::Ndt) {
+        const auto t0 = Clock::now();
+        associate(pts_body_, T, *map_, assoc_, corr_, last_stats_);
+        rep.ms.associate += msSince(t0);
+    }
+    rep.corr_plane = last_stats_.plane;
+    rep.corr_line = last_stats_.line;
+    rep.corr_point = last_stats_.point;
+    rep.too_far = last_stats_.too_far;
+    const InlierStats in = inlierStats(corr_, pts_body_.size(), T, lp.inlier_dist);
+    rep.inlier_ratio = in.ratio;
+    rep.residual_rms = in.rms;
+    // Divergence: too few inliers, or a jump away from the prediction (not on the first frame,
+    // whose "prediction" is the user's initial guess).
+    if (!rep.diverged && in.ratio < lp.min_inlier_ratio) {
+        rep.diverged = true;
+        rep.diverged_reason = "inliers";
+    }
+    if (!rep.diverged && !first &&
+        (translationDistance(T, pred.T_map_imu) > lp.max_jump_xyz ||
+         rotationAngle(T, pred.T_map_imu) > lp.max_jump_deg * kDeg)) {
+        rep.diverged = true;
+        rep.diverged_reason = "jump";
+    }
+    if (!pred.used_imu) {
+        // Without IMU the velocity is the finite difference of the estimates.
+        const double dt = scan.t - prev_.t;
+        cur_.setVelocity(have_prev_ && dt > 0 ? Vec3d((T.translation() - prev_.T_map_imu().translation()) / dt)
+                                              : Vec3d::Zero());
+    }
+    rep.T_map_imu = T;
+    rep.T_map_lidar = T * scan.T_imu_lidar;
+    rep.velocity = cur_.velocity();
+    rep.bias = cur_.bias();
+    const SE3d T_ml = rep.T_map_lidar;
+    for (auto& p : map_points_) p = (T_ml * p.cast<double>()).cast<float>();
+}
+
+FrameReport Localizer::process(const Scan& scan) {
+    const auto t_start = Clock::now();
+    FrameReport rep;
+    rep.index = frames_++;
+    rep.t = scan.t;
+    const bool first = !have_prev_;
+
+    // Step 1: prediction.
+    auto t0 = Clock::now();
+    imu::Preintegration pre(prev_.bias(), imu::ImuNoise{params_.imu.acc_noise, params_.imu.gyro_noise});
+    Prediction pred;
+    if (first) {
+        pred.T_map_imu = initial_T_map_lidar_.value_or(SE3d::Identity()) * scan.T_imu_lidar.inverse();
+        imu::ImuBias b;
+        if (params_.loc.use_imu && !imu_.empty()) {
+            const auto rest = imu::initAtRest(imu_, imu_.front().t, params_.imu);
+            if (rest.at_rest) {
+                b = rest.bias;
+                MRPT_LOG_INFO_FMT("IMU at rest: gyro bias %.4f %.4f %.4f rad/s, tilt vs initial pose %.2f deg",
+                                  b.gyro.x(), b.gyro.y(), b.gyro.z(),
+                                  imu::tiltDisagreement(rest, pred.T_map_imu.linear()) / kDeg);
+            }
+        }
+        cur_ = fusion::FrameState{};
+        cur_.setBias(b);
+    } else {
+        pred = predict(scan.t, pre);
+        cur_ = prev_;
+        cur_.setVelocity(pred.v);
+    }
+    cur_.t = scan.t;
+    cur_.setPose(pred.T_map_imu);
+    rep.used_imu = pred.used_imu;
+    rep.T_map_lidar_pred = pred.T_map_imu * scan.T_imu_lidar;
+    rep.ms.predict = msSince(t0);
+
+    // Step 2: features.
+    t0 = Clock::now();
+    preprocess(scan, pred, rep);
+    rep.ms.preprocess = msSince(t0);
+
+    // Steps 3-5: association, risk, solve.
+    if (method_ == Method::Ndt) {
+        solveNdt(scan.T_imu_lidar, rep);
+    } else {
+        solveIcp(pred, pred.used_imu ? &pre : nullptr, first, rep);
+    }
+
+    // Step 6: report and state update.
+    finish(scan, pred, first, rep);
+    prev_prev_ = have_prev_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
+    prev_ = cur_;
+    have_prev_ = true;
+    // Keep one second of IMU before the last scan.
+    const auto keep = std::lower_bound(imu_.begin(), imu_.end(), scan.t - 1.0,
+                                       [](const ImuSample& s, double t) { return s.t < t; });
+    imu_.erase(imu_.begin(), keep);
+    rep.ms.total = msSince(t_start);
+    return rep;
+}
+
+}  // namespace superloc::localization

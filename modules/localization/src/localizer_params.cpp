@@ -1,0 +1,24 @@
+#include <superloc/core/config.h>
+#include <superloc/localization/localizer.h>
+
+namespace superloc::localization {
+
+LocalizerParams LocalizerParams::load(const mrpt::config::CConfigFileBase& cfg, const std::string& source) {
+    LocalizerParams p;
+    p.loc = loadParams<LocalizationParams>(cfg, "localization", source);
+    p.features = loadParams<features::FeaturesParams>(cfg, "features", source);
+    p.fusion = loadParams<fusion::FusionParams>(cfg, "fusion", source);
+    p.imu = loadParams<imu::ImuParams>(cfg, "imu", source);
+    p.risk = loadParams<risk::RiskParams>(cfg, "risk", source);
+    return p;
+}
+
+void LocalizerParams::save(mrpt::config::CConfigFileBase& cfg) const {
+    loc.saveToConfigFile(cfg, "localization");
+    features.saveToConfigFile(cfg, "features");
+    fusion.saveToConfigFile(cfg, "fusion");
+    imu.saveToConfigFile(cfg, "imu");
+    risk.saveToConfigFile(cfg, "risk");
+}
+
+}  // namespace superloc::localization

@@ -1,0 +1,121 @@
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/tum.h>
+#include <superloc/localization/run_outputs.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+namespace superloc::localization {
+
+std::string framesCsvHeader() {
+    return "t,x,y,z,qx,qy,qz,qw,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,"
+           "degenerate,prior_used,ms_total,"
+           "index,inlier_ratio,residual_rms,points_raw,points_valid,candidates,features,"
+           "corr_plane,corr_line,corr_point,too_far,rounds,iterations,converged,diverged,"
+           "diverged_reason,used_imu,deskewed,"
+           "prior_w_x,prior_w_y,prior_w_z,prior_w_roll,prior_w_pitch,prior_w_yaw,vx,vy,vz,"
+           "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve";
+}
+
+std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
+    const Eigen::Quaterniond q(T.linear());
+    const Vec3d p = T.translation();
+    char buf[1024];
+    int n = std::snprintf(buf, sizeof(buf), "%.9f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f", r.t, p.x(), p.y(),
+                          p.z(), q.x(), q.y(), q.z(), q.w());
+    std::string s(buf, static_cast<size_t>(n));
+    const auto add = [&s, &buf](const char* fmt, auto v) {
+        const int k = std::snprintf(buf, sizeof(buf), fmt, v);
+        s += ',';
+        s.append(buf, static_cast<size_t>(k));
+    };
+    for (int k = 0; k < 6; ++k) add("%.4f", r.gamma[k]);
+    s += ',' + r.degenerate_axes;
+    add("%d", r.prior_used ? 1 : 0);
+    add("%.3f", r.ms.total);
+    add("%zu", r.index);
+    add("%.4f", r.inlier_ratio);
+    add("%.4f", r.residual_rms);
+    for (size_t v : {r.points_raw, r.points_valid, r.candidates, r.features, r.corr_plane, r.corr_line,
+                     r.corr_point, r.too_far})
+        add("%zu", v);
+    add("%d", r.rounds);
+    add("%d", r.iterations);
+    add("%d", r.converged ? 1 : 0);
+    add("%d", r.diverged ? 1 : 0);
+    s += ',' + r.diverged_reason;
+    add("%d", r.used_imu ? 1 : 0);
+    add("%d", r.deskewed ? 1 : 0);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.prior_weight[k]);
+    for (int k = 0; k < 3; ++k) add("%.4f", r.velocity[k]);
+    for (double v : {r.ms.predict, r.ms.preprocess, r.ms.associate, r.ms.risk, r.ms.solve}) add("%.3f", v);
+    return s;
+}
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0;
+    std::sort(v.begin(), v.end());
+    const double pos = q * static_cast<double>(v.size() - 1);
+    const size_t i = static_cast<size_t>(pos);
+    const double f = pos - static_cast<double>(i);
+    return i + 1 < v.size() ? v[i] * (1 - f) + v[i + 1] * f : v[i];
+}
+
+RunOutputs::RunOutputs(const std::string& dir, double map_voxel)
+    : dir_(dir), voxel_(static_cast<float>(map_voxel)) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error(dir + ": cannot create output folder (" + ec.message() + ")");
+    const std::string csv = (std::filesystem::path(dir) / "frames.csv").string();
+    csv_.open(csv);
+    if (!csv_) throw std::runtime_error(csv + ": cannot open for writing");
+    csv_ << framesCsvHeader() << '\n' << std::flush;
+    tum_ = std::make_unique<io::TumWriter>((std::filesystem::path(dir) / "trajectory.tum").string(),
+                                           "superloc-localize: t x y z qx qy qz qw");
+}
+
+RunOutputs::~RunOutputs() = default;
+
+void RunOutputs::addFrame(const FrameReport& r, const SE3d& T, const std::vector<Vec3f>& map_points) {
+    tum_->write(r.t, T);
+    csv_ << framesCsvLine(r, T) << '\n' << std::flush;
+    for (const auto& p : map_points) {
+        if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_)).second) map_.push_back(p);
+    }
+}
+
+void RunOutputs::finish(const RunSummary& s) {
+    const std::string json = (std::filesystem::path(dir_) / "summary.json").string();
+    std::ofstream f(json);
+    if (!f) throw std::runtime_error(json + ": cannot open for writing");
+    const auto& m = s.stage_median;
+    f << "{\n"
+      << "  \"method\": \"" << s.method << "\",\n"
+      << "  \"frames\": " << s.frames << ",\n"
+      << "  \"frames_diverged\": " << s.diverged << ",\n"
+      << "  \"frames_converged\": " << s.converged << ",\n"
+      << "  \"frames_with_imu\": " << s.used_imu << ",\n"
+      << "  \"ms_per_frame_median\": " << s.ms_median << ",\n"
+      << "  \"ms_per_frame_p95\": " << s.ms_p95 << ",\n"
+      << "  \"ms_per_frame_mean\": " << s.ms_mean << ",\n"
+      << "  \"fps\": " << s.fps << ",\n"
+      << "  \"stage_ms_median\": {\"predict\": " << m.predict << ", \"preprocess\": " << m.preprocess
+      << ", \"associate\": " << m.associate << ", \"risk\": " << m.risk << ", \"solve\": " << m.solve
+      << ", \"total\": " << m.total << "},\n"
+      << "  \"map_points\": " << s.map_points << ",\n"
+      << "  \"map_prepare_s\": " << s.map_prepare_s << ",\n"
+      << "  \"gt_frames_matched\": " << s.gt_matched << ",\n"
+      << "  \"ate_rmse_vs_rawlog_gt\": " << (s.ate_rmse < 0 ? std::string("null") : std::to_string(s.ate_rmse))
+      << ",\n"
+      << "  \"ate_max_vs_rawlog_gt\": " << (s.ate_max < 0 ? std::string("null") : std::to_string(s.ate_max))
+      << "\n}\n";
+    if (!f) throw std::runtime_error(json + ": write failed");
+    PointCloud cloud;
+    cloud.points = map_;
+    io::savePointCloud((std::filesystem::path(dir_) / "localized_map.pcd").string(), cloud);
+}
+
+}  // namespace superloc::localization
