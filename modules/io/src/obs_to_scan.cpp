@@ -9,6 +9,7 @@
 #include <superloc/core/mrpt_conversions.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace superloc::io::detail {
 
@@ -111,14 +112,24 @@ bool fromRotating(const mrpt::obs::CObservationRotatingScan& o, Scan& scan, size
 }  // namespace
 
 std::string firstLine(const std::string& what) {
-    std::string s;
-    for (char c : what) {
-        if (c == '\n' || c == '\r') {
-            if (!s.empty()) break;
-            continue;
+    // MRPT: "==== MRPT exception ====\nMessage: outer\n...Original exception:\n...Message: inner".
+    // Keep the outermost and innermost messages; plain exceptions: their first line.
+    std::istringstream ss(what);
+    std::string line, first, last;
+    while (std::getline(ss, line)) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.rfind("Message:", 0) == 0) {
+            line = line.substr(line.find_first_not_of(' ', 8) == std::string::npos ? 8 : line.find_first_not_of(' ', 8));
+            if (first.empty()) first = line;
+            last = line;
+        } else if (first.empty() && !line.empty() && line.rfind("====", 0) != 0 &&
+                   what.find("Message:") == std::string::npos) {
+            first = last = line;
+            break;
         }
-        s += c;
     }
+    std::string s = first == last ? first : first + ": " + last;
+    if (s.empty()) s = "unknown error";
     if (s.size() > 300) s = s.substr(0, 300) + "...";
     return s;
 }

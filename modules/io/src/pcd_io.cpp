@@ -8,6 +8,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
 #include <stdexcept>
 
 #include "cloud_formats.h"
@@ -41,23 +45,66 @@ float readAs(const uint8_t* p, const pcl::PCLPointField& f) {
     }
 }
 
-/// PCL accepts some broken headers (e.g. no DATA line) as an empty cloud: check the header's
-/// required lines ourselves first.
+/// PCL 1.13 accepts some broken headers as an empty cloud (no DATA line) and crashes on
+/// others (FIELDS/SIZE/TYPE/COUNT of different lengths): validate the header strictly first.
 void checkHeader(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open");
-    bool fields = false, data = false;
+    const auto bad = [&](const std::string& why) {
+        return std::runtime_error(path + ": corrupt PCD header: " + why);
+    };
+    const auto toInt = [&](const std::string& t, const std::string& key) {
+        char* end = nullptr;
+        const long long v = std::strtoll(t.c_str(), &end, 10);
+        if (t.empty() || end != t.c_str() + t.size() || v < 0 || v > (1LL << 32))
+            throw bad(key + " value '" + t + "' is not a count");
+        return v;
+    };
+    std::map<std::string, std::vector<std::string>> h;
     std::string line;
-    for (int n = 0; n < 64 && std::getline(in, line); ++n) {
-        if (line.rfind("FIELDS", 0) == 0) fields = true;
-        if (line.rfind("DATA", 0) == 0) {
-            data = true;
-            break;
-        }
+    for (int n = 0; n < 100 && std::getline(in, line); ++n) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty() || line[0] == '#') continue;
+        std::istringstream ss(line);
+        std::string key, tok;
+        ss >> key;
+        static const std::set<std::string> known = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT",
+                                                    "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+        if (!known.count(key)) throw bad("unknown line '" + line.substr(0, 40) + "'");
+        if (h.count(key)) throw bad("repeated " + key);
+        auto& v = h[key];
+        while (ss >> tok) v.push_back(tok);
+        if (key == "DATA") break;
     }
-    if (!fields || !data)
-        throw std::runtime_error(path + ": corrupt PCD file: header has no " +
-                                 std::string(!fields ? "FIELDS" : "DATA") + " line");
+    for (const char* k : {"FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT", "DATA"})
+        if (!h.count(k) || h[k].empty()) throw bad(std::string("no ") + k + " line");
+    const size_t nf = h["FIELDS"].size();
+    if (h["SIZE"].size() != nf || h["TYPE"].size() != nf || (h.count("COUNT") && h["COUNT"].size() != nf))
+        throw bad("FIELDS, SIZE, TYPE and COUNT have different lengths");
+    long long step = 0;
+    for (size_t i = 0; i < nf; ++i) {
+        const long long sz = toInt(h["SIZE"][i], "SIZE");
+        const long long cnt = h.count("COUNT") ? toInt(h["COUNT"][i], "COUNT") : 1;
+        const std::string& ty = h["TYPE"][i];
+        if (!(sz == 1 || sz == 2 || sz == 4 || sz == 8) || cnt < 1 || cnt > 1 << 16)
+            throw bad("bad SIZE/COUNT of field " + h["FIELDS"][i]);
+        if (ty != "F" && ty != "I" && ty != "U") throw bad("bad TYPE '" + ty + "'");
+        if (ty == "F" && sz != 4 && sz != 8) throw bad("float field of size " + std::to_string(sz));
+        step += sz * cnt;
+    }
+    const long long w = toInt(h["WIDTH"][0], "WIDTH"), ht = toInt(h["HEIGHT"][0], "HEIGHT");
+    if (h.count("POINTS") && toInt(h["POINTS"].at(0), "POINTS") != w * ht)
+        throw bad("POINTS differs from WIDTH x HEIGHT");
+    const std::string data = h["DATA"][0];
+    if (data != "ascii" && data != "binary" && data != "binary_compressed")
+        throw bad("unknown DATA '" + data + "'");
+    if (data == "binary") {
+        const auto header_end = static_cast<long long>(in.tellg());
+        const auto size = static_cast<long long>(std::filesystem::file_size(path));
+        if (header_end < 0 || size - header_end < w * ht * step)
+            throw std::runtime_error(path + ": truncated PCD file (" + std::to_string(size - header_end) +
+                                     " data bytes for " + std::to_string(w * ht) + " points)");
+    }
 }
 
 }  // namespace
