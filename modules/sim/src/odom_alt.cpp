@@ -39,7 +39,7 @@ OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed) : p_(p
         return Vec3d(v / std::max(1e-9, v.norm()));
     };
     u_ = unit();
-    w_ = unit();
+    sign_ = n01_(rng_) < 0 ? -1.0 : 1.0;
 }
 
 PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_lidar) {
@@ -51,12 +51,13 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_lidar) {
     } else {
         const SE3d dT = last_gt_.inverse() * T_map_lidar;
         const double d = dT.translation().norm();
-        const double a = logSO3(dT.linear()).norm();
+        const Vec3d phi = logSO3(dT.linear());
+        const double a = phi.norm();
         dist_ += d;
         angle_ += a;
         const Vec3d nt(n01_(rng_), n01_(rng_), n01_(rng_)), nr(n01_(rng_), n01_(rng_), n01_(rng_));
         const Vec3d dt = p_.drift_per_m * d * u_ + p_.trans_noise * nt;
-        const Vec3d dr = p_.drift_per_rad * a * w_ + (p_.rot_noise_deg * M_PI / 180) * nr;
+        const Vec3d dr = sign_ * p_.drift_per_rad * phi + (p_.rot_noise_deg * M_PI / 180) * nr;
         SE3d E = SE3d::Identity();
         E.linear() = expSO3(dr);
         E.translation() = dt;

@@ -69,18 +69,19 @@ DensePath makeDensePath(const std::vector<Waypoint>& waypoints, const MotionLimi
     path.s.assign(n, 0);
     for (size_t i = 1; i < n; ++i) path.s[i] = path.s[i - 1] + (path.p[i] - path.p[i - 1]).norm();
 
-    // Speed caps from curvature (turning angle over +-0.5 m), then acceleration limits.
+    // Speed caps from curvature (turning angle over +-0.2 m), then acceleration limits.
     const auto indexAt = [&](double s) {
         return static_cast<size_t>(
             std::lower_bound(path.s.begin(), path.s.end(), std::clamp(s, 0.0, path.s.back())) -
             path.s.begin());
     };
     for (size_t i = 0; i < n; ++i) {
-        const size_t a = indexAt(path.s[i] - 0.5), b = indexAt(path.s[i] + 0.5);
+        const size_t a = indexAt(path.s[i] - 0.2), b = indexAt(path.s[i] + 0.2);
         if (a == i || b == i || b >= n) continue;
         const Vec3d t1 = (path.p[i] - path.p[a]).normalized(), t2 = (path.p[b] - path.p[i]).normalized();
         const double ang = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
-        const double kappa = ang / std::max(1e-6, path.s[b] - path.s[a]);
+        // The two chords turn by the arc between their midpoints, (s[b] - s[a]) / 2.
+        const double kappa = ang / std::max(1e-6, 0.5 * (path.s[b] - path.s[a]));
         if (kappa > 1e-6)
             path.v[i] = std::min({path.v[i], lim.max_yaw_rate / kappa,
                                   std::sqrt(lim.max_lat_accel / kappa)});

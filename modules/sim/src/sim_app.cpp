@@ -57,22 +57,30 @@ void SimApp::initialize(SimConfig cfg, const std::string& out_dir) {
     out_dir_ = out_dir;
 }
 
+SimScene makeScene(const SimConfig& c) {
+    World world;
+    try {
+        world = buildWorld(c.sim.world, c.ini, c.source, c.sim.seed, c.trajectory.body_height);
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        throw ConfigError(msg.rfind(c.source, 0) == 0 ? msg : c.source + ": " + msg);
+    }
+    DensePath path = makeDensePath(world.route, c.trajectory.limits());
+    SmoothTrajectory traj(path, c.trajectory, c.sim.start_time, c.sim.duration);
+    return SimScene{std::move(world), std::move(path), std::move(traj)};
+}
+
 SimSummary SimApp::run() {
     namespace fs = std::filesystem;
     const SimConfig& c = cfg_;
     const uint64_t seed = c.sim.seed;
     SimSummary sum;
 
-    World world;
-    try {
-        world = buildWorld(c.sim.world, c.ini, c.source, seed, c.trajectory.body_height);
-    } catch (const ConfigError& e) {
-        const std::string msg = e.what();
-        throw ConfigError(msg.rfind(c.source, 0) == 0 ? msg : c.source + ": " + msg);
-    }
+    const SimScene scene = makeScene(c);
+    const World& world = scene.world;
+    const DensePath& path = scene.path;
+    const SmoothTrajectory& traj = scene.trajectory;
     sum.mesh_triangles = world.mesh.size();
-    const DensePath path = makeDensePath(world.route, c.trajectory.limits());
-    const SmoothTrajectory traj(path, c.trajectory, c.sim.start_time, c.sim.duration);
     const double t0 = traj.startTime(), t1 = traj.endTime();
     sum.duration = t1 - t0;
     MRPT_LOG_INFO_STREAM("world " << world.name << ": " << world.mesh.size() << " triangles, route "
@@ -148,7 +156,7 @@ SimSummary SimApp::run() {
     if (on_progress) on_progress(0.95);
     {
         const NearMask near(positions, c.sim.prior_map_max_distance);
-        const double spacing = std::min(0.05, c.sim.prior_map_voxel / 3);
+        const double spacing = std::min(0.05, c.sim.prior_map_voxel / 2);
         const PointCloud samples = sampleSurface(world.mesh, spacing, streamSeed(seed, "prior_samples"),
                                                  [&](const Vec3f& p) { return near.contains(p); });
         const PointCloud prior = makePriorMap(samples, c.sim.prior_map_voxel, c.sim.prior_map_noise,

@@ -49,6 +49,15 @@ SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::stri
             throw ConfigError(ini_path + ": unknown section [" + s + "]");
 
     c.sim = load<SimParams>(c.ini, "sim", ini_path);
+    for (const auto& w : worldNames())
+        if (c.ini.sectionExists(w)) {
+            try {
+                validateWorldSection(w, c.ini, ini_path);
+            } catch (const ConfigError& e) {
+                const std::string msg = e.what();
+                throw ConfigError(msg.rfind(ini_path, 0) == 0 ? msg : ini_path + ": " + msg);
+            }
+        }
     if (std::find(worldNames().begin(), worldNames().end(), c.sim.world) == worldNames().end())
         throw ConfigError(ini_path + ": [sim] world = '" + c.sim.world +
                           "' is unknown (corridor, cave, multifloor, openfield, office)");

@@ -74,18 +74,21 @@ PointCloud sampleSurface(const Mesh& mesh, double spacing, uint64_t seed,
 
 PointCloud makePriorMap(const PointCloud& samples, double voxel, double noise, double warp,
                         uint64_t seed) {
+    // Voxelize the true surface samples first, then displace the kept points (cheaper, and the
+    // displacement is what a mapping error would do to the points a user is handed).
+    PointCloud kept;
+    kept.points = samples.points;
+    kept = voxelDownsample(kept, static_cast<float>(voxel));
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> N(0.0, 1.0);
     const FractalNoise wx(streamSeed(seed, "warp-x"), 10.0, 2), wy(streamSeed(seed, "warp-y"), 10.0, 2),
         wz(streamSeed(seed, "warp-z"), 10.0, 2);
-    PointCloud noisy;
-    noisy.points.reserve(samples.size());
-    for (const auto& p : samples.points) {
+    for (auto& p : kept.points) {
         const Vec3d q = p.cast<double>();
         const Vec3d d = warp * Vec3d(wx(q), wy(q), wz(q)) + noise * Vec3d(N(rng), N(rng), N(rng));
-        noisy.points.push_back((q + d).cast<float>());
+        p = (q + d).cast<float>();
     }
-    return voxelDownsample(noisy, static_cast<float>(voxel));
+    return kept;
 }
 
 }  // namespace superloc::sim

@@ -40,7 +40,9 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
     const int ny = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)));
     // 0 empty, 1 floor (upward-facing), 2 wall (steep).
     std::vector<uint8_t> grid(static_cast<size_t>(nx) * ny, 0);
-    const PointCloud s = sampleSurface(mesh, cell / 3, 1);
+    const PointCloud s = sampleSurface(mesh, cell / 3, 1, [&](const Vec3f& q) {
+        return q.x() >= lo.x() && q.y() >= lo.y() && q.x() <= hi.x() && q.y() <= hi.y();
+    });
     for (size_t i = 0; i < s.size(); ++i) {
         const int ix = static_cast<int>((s.points[i].x() - lo.x()) / cell);
         const int iy = static_cast<int>((s.points[i].y() - lo.y()) / cell);

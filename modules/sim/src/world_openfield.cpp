@@ -38,7 +38,7 @@ void OpenfieldParams::validate() const {
     need(objects >= 0 && objects <= 100, "objects must be in [0, 100]");
     need(object_min_dist > 0 && object_max_dist >= object_min_dist && object_max_dist < size / 2,
          "need 0 < object_min_dist <= object_max_dist < size/2");
-    need(loop_length >= 5 && loop_length < object_min_dist * 1.6, "loop_length must be in [5, 1.6 object_min_dist)");
+    need(loop_length >= 5 && loop_length <= object_min_dist * 1.6, "loop_length must be in [5, 1.6 object_min_dist] m");
     need(laps >= 1 && laps <= 20, "laps must be in [1, 20]");
 }
 

@@ -9,6 +9,15 @@ const std::vector<std::string>& worldNames() {
     return names;
 }
 
+void validateWorldSection(const std::string& name, const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& source) {
+    if (name == "corridor") loadParams<CorridorParams>(cfg, name, source);
+    if (name == "cave") loadParams<CaveParams>(cfg, name, source);
+    if (name == "multifloor") loadParams<MultifloorParams>(cfg, name, source);
+    if (name == "openfield") loadParams<OpenfieldParams>(cfg, name, source);
+    if (name == "office") loadParams<OfficeParams>(cfg, name, source);
+}
+
 World buildWorld(const std::string& name, const mrpt::config::CConfigFileBase& cfg,
                  const std::string& source, uint64_t seed, double body_height) {
     if (name == "corridor")

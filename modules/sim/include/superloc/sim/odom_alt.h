@@ -4,9 +4,10 @@
 // at the first sample. Each increment dT between consecutive samples (from ground truth) is
 // corrupted as  dT_noisy = dT * Exp([d_t; d_r]) with
 //   d_t = drift_per_m * |dt| * u  + trans_noise * n_t      (u: fixed unit vector, lidar frame)
-//   d_r = drift_per_rad * |dphi| * w + rot_noise * n_r     (w: fixed unit axis, lidar frame)
-// so along a straight path the position error grows by drift_per_m metres per metre travelled,
-// and the heading error by drift_per_rad radians per radian turned (u, w drawn from the seed).
+//   d_r = sign * drift_per_rad * dphi + rot_noise * n_r   (dphi: the increment's rotation vector)
+// so along a straight path the position error grows by drift_per_m metres per metre travelled
+// (u drawn from the seed), and turning about an axis over- or under-estimates the angle
+// (sign drawn from the seed) by drift_per_rad radians per radian turned, like a gyro scale error.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -24,8 +25,8 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
     double rate_hz = 20.0;       ///< [Hz] 10-30 for VIO/wheel odometry
     double drift_per_m = 0.02;   ///< [m/m] translation drift per metre travelled
     double drift_per_rad = 0.02; ///< [rad/rad] rotation drift per radian turned
-    double trans_noise = 0.002;  ///< [m] 1-sigma white noise per increment
-    double rot_noise_deg = 0.02; ///< [deg] 1-sigma white noise per increment
+    double trans_noise = 0.0005; ///< [m] 1-sigma white noise per increment
+    double rot_noise_deg = 0.01; ///< [deg] 1-sigma white noise per increment
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -42,7 +43,8 @@ class OdomAltSimulator {
     OdomAltParams p_;
     std::mt19937_64 rng_;
     std::normal_distribution<double> n01_{0.0, 1.0};
-    Vec3d u_, w_;
+    Vec3d u_;
+    double sign_ = 1;
     bool first_ = true;
     SE3d last_gt_, odom_;
     double dist_ = 0, angle_ = 0;

@@ -14,6 +14,7 @@
 #include <superloc/sim/odom_alt.h>
 #include <superloc/sim/sim_params.h>
 #include <superloc/sim/trajectory.h>
+#include <superloc/sim/worlds.h>
 
 #include <functional>
 #include <string>
@@ -35,6 +36,16 @@ struct SimConfig {
 /// Loads CONFIG (with --set overrides applied, and the [lidar] preset merged in under the
 /// file's own [lidar] keys). Throws ConfigError, one line naming the file and key.
 SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::string>& overrides);
+
+/// The world and the platform's motion of a configuration (what run() simulates; tests use it
+/// to check the outputs against the exact trajectory).
+struct SimScene {
+    World world;
+    DensePath path;
+    SmoothTrajectory trajectory;
+};
+/// Builds the scene; ConfigError naming the file on a bad world section.
+SimScene makeScene(const SimConfig& cfg);
 
 /// What a run produced.
 struct SimSummary {

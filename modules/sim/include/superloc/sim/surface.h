@@ -26,8 +26,8 @@ class NearMask {
 PointCloud sampleSurface(const Mesh& mesh, double spacing, uint64_t seed,
                          const std::function<bool(const Vec3f&)>& keep = {});
 
-/// The map a user would be handed: surface samples displaced by white noise (`noise` sigma)
-/// and a smooth warp (`warp` amplitude over ~10 m), voxel-downsampled. Normals are dropped.
+/// The map a user would be handed: surface samples voxel-downsampled, then displaced by white
+/// noise (`noise` sigma) and a smooth warp (`warp` amplitude over ~10 m). Normals are dropped.
 PointCloud makePriorMap(const PointCloud& samples, double voxel, double noise, double warp,
                         uint64_t seed);
 

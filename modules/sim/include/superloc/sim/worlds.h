@@ -106,6 +106,10 @@ const std::vector<std::string>& worldNames();
 World buildWorld(const std::string& name, const mrpt::config::CConfigFileBase& cfg,
                  const std::string& source, uint64_t seed, double body_height);
 
+/// Checks a world section's keys and values (ConfigError naming `source`), without building.
+void validateWorldSection(const std::string& name, const mrpt::config::CConfigFileBase& cfg,
+                          const std::string& source);
+
 World buildCorridor(const CorridorParams& p, uint64_t seed, double body_height);
 World buildCave(const CaveParams& p, uint64_t seed, double body_height);
 World buildMultifloor(const MultifloorParams& p, uint64_t seed, double body_height);

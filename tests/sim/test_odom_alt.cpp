@@ -1,0 +1,85 @@
+// odom_alt drifts as its INI says: drift_per_m metres per metre along a straight path, and
+// drift_per_rad radians per radian turned (within 20 %).
+#include <superloc/core/se3.h>
+#include <superloc/sim/odom_alt.h>
+
+#include "sim_test_utils.h"
+
+using namespace superloc;
+using namespace superloc::sim;
+
+namespace {
+
+struct Segments {
+    double trans_err = 0, dist = 0, rot_err = 0, angle = 0;
+};
+
+// Relative-pose errors over consecutive windows of `window` samples, accumulated.
+Segments measure(const SmoothTrajectory& tr, const OdomAltParams& p, uint64_t seed, size_t window) {
+    OdomAltSimulator sim(p, seed);
+    std::vector<SE3d> gt, od;
+    for (double t = tr.startTime(); t <= tr.endTime(); t += 1.0 / p.rate_hz) {
+        gt.push_back(tr.pose(t));
+        od.push_back(sim.step(t, gt.back()).pose);
+    }
+    Segments s;
+    for (size_t i = 0; i + window < gt.size(); i += window) {
+        const SE3d dg = gt[i].inverse() * gt[i + window], dd = od[i].inverse() * od[i + window];
+        s.trans_err += (dg.translation() - dd.translation()).norm();
+        s.dist += dg.translation().norm();
+        s.rot_err += logSO3(dg.linear().transpose() * dd.linear()).norm();
+        s.angle += logSO3(dg.linear()).norm();
+    }
+    return s;
+}
+
+SmoothTrajectory makeTrajectory(const std::vector<Waypoint>& route, double duration) {
+    TrajectoryParams tp;
+    tp.max_speed = 2.0;
+    tp.max_yaw_rate_deg = 60;
+    tp.corner_radius = 0.5;
+    return SmoothTrajectory(makeDensePath(route, tp.limits()), tp, 1000.0, duration);
+}
+
+}  // namespace
+
+TEST(OdomAlt, TranslationDriftPerMetreMatchesIni) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{200, 0, 0}, 1.0}}, 90);
+    for (const double drift : {0.01, 0.05}) {
+        OdomAltParams p;
+        p.drift_per_m = drift;
+        for (uint64_t seed : {1, 2, 3}) {
+            const Segments s = measure(tr, p, seed, 100);  // 5 s windows, ~10 m
+            ASSERT_GT(s.dist, 100.0);
+            EXPECT_NEAR(s.trans_err / s.dist, drift, 0.2 * drift) << "seed " << seed;
+        }
+    }
+}
+
+TEST(OdomAlt, RotationDriftPerRadianMatchesIni) {
+    std::vector<Waypoint> circle;  // r = 6 m, several laps
+    for (int k = 0; k <= 200; ++k)
+        circle.push_back({{6 * std::cos(k * 0.3), 6 * std::sin(k * 0.3), 0}, 1.0});
+    const SmoothTrajectory tr = makeTrajectory(circle, 60);
+    for (const double drift : {0.01, 0.05}) {
+        OdomAltParams p;
+        p.drift_per_rad = drift;
+        p.drift_per_m = 0;
+        for (uint64_t seed : {1, 2}) {
+            const Segments s = measure(tr, p, seed, 100);  // 5 s windows, ~1.7 rad
+            ASSERT_GT(s.angle, 10.0);
+            EXPECT_NEAR(s.rot_err / s.angle, drift, 0.2 * drift) << "seed " << seed;
+        }
+    }
+}
+
+TEST(OdomAlt, FirstPoseIsTheOdometryOriginAndCovarianceGrows) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{50, 0, 0}, 1.0}}, 20);
+    OdomAltSimulator sim(OdomAltParams{}, 1);
+    const PoseStamped first = sim.step(tr.startTime(), tr.pose(tr.startTime()));
+    EXPECT_TRUE(first.pose.isApprox(SE3d::Identity()));
+    PoseStamped last;
+    for (double t = tr.startTime() + 0.05; t < tr.endTime(); t += 0.05) last = sim.step(t, tr.pose(t));
+    ASSERT_TRUE(first.cov && last.cov);
+    EXPECT_GT((*last.cov)(0, 0), 100 * (*first.cov)(0, 0));
+}
