@@ -148,6 +148,27 @@ TEST(Rawlog, ReordersWithinWindowAndRejectsBeyond) {
     }
 }
 
+TEST(Rawlog, MemoryIsBoundedByTheReorderWindow) {
+    // 60 s of 200 Hz IMU with 10 Hz scans: the reader never holds more than a window's worth.
+    const auto path = freshDir("rawlog_stream") + "/long.rawlog";
+    {
+        RawlogWriter w(path);
+        ImuSample s;
+        for (int i = 0; i < 12000; ++i) {
+            s.t = 100.0 + i * 0.005;
+            w.writeImu(s);
+            if (i % 20 == 0) w.writeScan(makeScan(s.t, 50));
+        }
+    }
+    RawlogParams p;
+    p.reorder_window = 0.25;
+    RawlogStats st;
+    const auto items = readAll(path, &st, p);
+    EXPECT_EQ(items.size(), 12600u);
+    EXPECT_GT(st.max_pending, 40u);
+    EXPECT_LE(st.max_pending, 0.25 * 210 + 5);
+}
+
 TEST(Rawlog, CountsUnknownTypesOtherLabelsAndEmptyScans) {
     const auto path = freshDir("rawlog_unknown") + "/u.rawlog";
     {

@@ -64,6 +64,7 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
                 " s");
         newest = std::max(newest, t);
         heap.push(Pending{t, seq++, std::move(item)});
+        stats.max_pending = std::max(stats.max_pending, heap.size());
     }
 
     void handle(const mrpt::obs::CObservation& obs) {

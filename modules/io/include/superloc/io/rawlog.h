@@ -60,6 +60,7 @@ struct RawlogStats {
     size_t empty_scans = 0;           ///< LiDAR observations with no valid point (skipped)
     size_t invalid_imu = 0;           ///< IMU samples without acc+gyro or with NaN (skipped)
     size_t skipped_labels = 0;        ///< LiDAR/IMU observations of a non-configured label
+    size_t max_pending = 0;           ///< most items held at once in the re-sort window
 };
 
 /// Streams a rawlog in timestamp order, one typed item at a time. Memory is bounded by the
