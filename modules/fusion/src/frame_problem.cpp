@@ -77,7 +77,6 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     opt.parameter_tolerance = 1e-8;
     ceres::Solver::Summary summary;
     ceres::Solve(opt, &problem, &summary);
-    if (getenv("SUPERLOC_DEBUG_CERES")) fprintf(stderr, "%s\n", summary.BriefReport().c_str());
     out.usable = summary.IsSolutionUsable();
     out.iterations = static_cast<int>(summary.iterations.size()) - 1;
     out.initial_cost = summary.initial_cost;

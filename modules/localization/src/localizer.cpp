@@ -244,7 +244,8 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
-    const AlignResult a = ndt_->align(deskewed_, guess);
+    // NDT gets every voxel candidate (deskewed), as hdl_localization feeds it a voxelized scan.
+    const AlignResult a = ndt_->align(map_points_, guess);
     rep.ms.solve += msSince(t0);
     rep.rounds = 1;
     rep.iterations = a.iterations;

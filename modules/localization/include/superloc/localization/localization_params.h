@@ -38,7 +38,8 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     // method = ndt (PCL NormalDistributionsTransform as the registration step)
     double ndt_resolution = 1.0;       ///< [m] NDT cell size
     double ndt_step_size = 0.1;        ///< [m] More-Thuente line-search max step
-    double ndt_epsilon = 0.01;         ///< transformation epsilon
+    double ndt_epsilon = 1e-4;         ///< [m] transformation epsilon (PCL 1.13 stops after one
+                                       ///< 0.1 m step at hdl_localization's 0.01)
     int ndt_max_iterations = 30;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;

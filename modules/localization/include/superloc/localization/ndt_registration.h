@@ -12,7 +12,7 @@ namespace superloc::localization {
 struct NdtParams {
     double resolution = 1.0;   ///< [m] cell size
     double step_size = 0.1;    ///< [m]
-    double epsilon = 0.01;
+    double epsilon = 1e-4;
     int max_iterations = 30;
 };
 
