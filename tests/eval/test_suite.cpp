@@ -139,3 +139,18 @@ TEST(BenchReport, TableShapeBestValuesAndFailures) {
     Trajectory t = {{0, SE3d::Identity(), {}}, {1, SE3d(Eigen::Translation3d(3, 4, 0)), {}}};
     EXPECT_DOUBLE_EQ(pathLength(t), 5.0);
 }
+
+// The committed suites parse and name existing files (the sim scenarios, the localizer INI,
+// the real data sets).
+TEST(Suite, CommittedSuitesLoad) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    if (!fs::exists(superloc::testing::sourcePath("ini/localize.ini")))
+        GTEST_SKIP() << "ini/localize.ini not in this tree yet";
+    const SuiteSpec quick = loadSuite(superloc::testing::sourcePath("ini/bench/quick.ini"), superloc::testing::sharedData());
+    EXPECT_EQ(quick.sequences.size(), 3u);
+    const SuiteSpec paper = loadSuite(superloc::testing::sourcePath("ini/bench/paper.ini"), superloc::testing::sharedData());
+    EXPECT_EQ(paper.methods, (std::vector<std::string>{"superloc", "icp", "passive", "eigen_remap", "ndt"}));
+    ASSERT_EQ(paper.sequences.size(), 7u);
+    EXPECT_EQ(paper.sequences[5].kind, SequenceSpec::Kind::PcdDir);
+    EXPECT_EQ(paper.sequences[6].localize_sets, (std::vector<std::string>{"features.deskew=false"}));
+}
