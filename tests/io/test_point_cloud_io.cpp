@@ -154,6 +154,19 @@ TEST(PointCloudIo, BadFilesGiveOneLineErrors) {
     expectLoadError(dir + "/noxyz.ply", "no x y z");
     writeFile(dir + "/notply.ply", "solid cube\n");
     expectLoadError(dir + "/notply.ply", "magic");
+    // Counts claiming far more points than the file holds are refused before allocating.
+    writeFile(dir + "/huge.ply",
+              "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\n"
+              "property float x\nproperty float y\nproperty float z\nend_header\n0123456789ab");
+    expectLoadError(dir + "/huge.ply", "truncated");
+    writeFile(dir + "/huge_ascii.ply",
+              "ply\nformat ascii 1.0\nelement vertex 4000000000\n"
+              "property float x\nproperty float y\nproperty float z\nend_header\n1 2 3\n");
+    expectLoadError(dir + "/huge_ascii.ply", "truncated");
+    writeFile(dir + "/huge.pcd",
+              "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 4000000000\n"
+              "HEIGHT 1\nPOINTS 4000000000\nDATA ascii\n1 2 3\n");
+    expectLoadError(dir + "/huge.pcd", "truncated");
     writeFile(dir + "/bad.txt", "1 2 3\n4 five 6\n");
     expectLoadError(dir + "/bad.txt", ":2:");
 }

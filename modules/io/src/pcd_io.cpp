@@ -98,13 +98,16 @@ void checkHeader(const std::string& path) {
     const std::string data = h["DATA"][0];
     if (data != "ascii" && data != "binary" && data != "binary_compressed")
         throw bad("unknown DATA '" + data + "'");
-    if (data == "binary") {
-        const auto header_end = static_cast<long long>(in.tellg());
-        const auto size = static_cast<long long>(std::filesystem::file_size(path));
-        if (header_end < 0 || size - header_end < w * ht * step)
-            throw std::runtime_error(path + ": truncated PCD file (" + std::to_string(size - header_end) +
-                                     " data bytes for " + std::to_string(w * ht) + " points)");
-    }
+    // PCL allocates WIDTH x HEIGHT points before reading: check the file can hold them (binary:
+    // exactly; ASCII: at least "v " per value) so a corrupt count cannot claim gigabytes.
+    const auto header_end = static_cast<long long>(in.tellg());
+    const auto size = static_cast<long long>(std::filesystem::file_size(path));
+    const long long need = data == "binary" ? w * ht * step
+                           : data == "ascii" ? w * ht * static_cast<long long>(nf) * 2 - 1
+                                             : 0;
+    if (header_end < 0 || size - header_end < need)
+        throw std::runtime_error(path + ": truncated PCD file (" + std::to_string(size - header_end) +
+                                 " data bytes for " + std::to_string(w * ht) + " points)");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // used), other elements after the vertices are ignored.
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -113,6 +114,19 @@ PointCloud readPly(const std::string& path) {
               ib = indexOf(props, {"blue", "b"});
     const bool has_n = inx >= 0 && iny >= 0 && inz >= 0, has_c = ir >= 0 && ig >= 0 && ib >= 0;
 
+    // Check the file can hold the vertices before allocating them (a corrupt count must not
+    // claim gigabytes): binary exactly, ASCII at least "v " per value.
+    {
+        size_t stride = 0;
+        for (const auto& p : props) stride += p.size;
+        const auto here = static_cast<long long>(in.tellg());
+        const auto size = static_cast<long long>(std::filesystem::file_size(path));
+        const long double need = format == "ascii" ? (long double)n_vertex * props.size() * 2 - 1
+                                                   : (long double)n_vertex * stride;
+        if (here < 0 || (long double)(size - here) < need)
+            throw bad("truncated: " + std::to_string(n_vertex) + " vertices do not fit in the " +
+                      std::to_string(size - here) + " data bytes");
+    }
     PointCloud c;
     c.points.resize(n_vertex);
     if (ii >= 0) c.intensity.resize(n_vertex);
