@@ -14,7 +14,8 @@
 namespace {
 
 const char* kUsage =
-    "Usage: superloc-import (--kitti DIR | --pcd-dir DIR) [--poses TUM] [--times FILE] --out FILE.rawlog\n"
+    "Usage: superloc-import (--kitti DIR | --pcd-dir DIR) [--poses TUM] [--times FILE] --out "
+    "FILE.rawlog\n"
     "  --kitti DIR    KITTI odometry folder: DIR/velodyne/NNNNNN.bin and DIR/times.txt\n"
     "  --pcd-dir DIR  folder of PCD scans (sorted by file name)\n"
     "  --poses TUM    ground-truth poses (T_world_lidar), one per scan or matched by time;\n"
@@ -37,14 +38,22 @@ Args parse(int argc, char** argv) {
             if (i + 1 >= argc) throw std::runtime_error(k + " needs a value (see --help)");
             return argv[++i];
         };
-        if (k == "--help" || k == "-h") a.help = true;
-        else if (k == "--kitti") a.kitti = value();
-        else if (k == "--pcd-dir") a.pcd_dir = value();
-        else if (k == "--poses") a.poses = value();
-        else if (k == "--times") a.times = value();
-        else if (k == "--out") a.out = value();
-        else if (k == "--quiet") a.quiet = true;
-        else throw std::runtime_error("unknown argument '" + k + "' (see --help)");
+        if (k == "--help" || k == "-h")
+            a.help = true;
+        else if (k == "--kitti")
+            a.kitti = value();
+        else if (k == "--pcd-dir")
+            a.pcd_dir = value();
+        else if (k == "--poses")
+            a.poses = value();
+        else if (k == "--times")
+            a.times = value();
+        else if (k == "--out")
+            a.out = value();
+        else if (k == "--quiet")
+            a.quiet = true;
+        else
+            throw std::runtime_error("unknown argument '" + k + "' (see --help)");
     }
     if (a.help) return a;
     if (a.kitti.empty() == a.pcd_dir.empty())
@@ -60,7 +69,8 @@ std::string oneLine(const std::exception& e) {
     while (std::getline(ss, line)) {
         if (line.empty() || line.rfind("====", 0) == 0) continue;
         if (line.rfind("Message:", 0) == 0) line = line.substr(8);
-        return line.substr(line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '));
+        return line.substr(
+            line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '));
     }
     return "unknown error";
 }
@@ -82,8 +92,8 @@ int run(int argc, char** argv) {
                        ? superloc::io::importPcdFolder(a.pcd_dir, a.poses, a.times, a.out, bar)
                        : superloc::io::importKitti(a.kitti, a.poses, a.times, a.out, bar);
     if (!a.quiet)
-        std::cout << a.out << ": " << r.scans << " scans, " << r.points << " points, "
-                  << r.gt_poses << " gt poses, " << r.dropped_points << " NaN/inf points dropped\n";
+        std::cout << a.out << ": " << r.scans << " scans, " << r.points << " points, " << r.gt_poses
+                  << " gt poses, " << r.dropped_points << " NaN/inf points dropped\n";
     return 0;
 }
 

@@ -28,7 +28,9 @@ std::string mutate(const std::string& bytes, std::mt19937& rng, int k) {
     std::string m = bytes;
     std::uniform_int_distribution<size_t> pos(0, m.size() - 1);
     switch (k % 3) {
-        case 0: m.resize(pos(rng)); break;
+        case 0:
+            m.resize(pos(rng));
+            break;
         case 1:
             for (int i = 0; i < 4; ++i) m[pos(rng) % std::min<size_t>(300, m.size())] = char(rng());
             break;
@@ -53,7 +55,6 @@ int fuzz(const std::string& file, int n, unsigned seed, F load, bool truncate_on
             ++errors;
             EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
         }
-
     }
     return errors;
 }

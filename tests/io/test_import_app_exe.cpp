@@ -1,7 +1,6 @@
 // The superloc-import executable itself: exit codes, one-line errors, a real KITTI import.
 #include <superloc/io/rawlog.h>
 #include <superloc_testing/testing.h>
-
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -29,7 +28,8 @@ std::string slurp(const std::string& p) {
 ExeResult runExe(const std::string& args, const std::string& dir) {
     const int rc = std::system(
         (kExe + " " + args + " > " + dir + "/stdout.txt 2> " + dir + "/stderr.txt").c_str());
-    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir + "/stdout.txt"), slurp(dir + "/stderr.txt")};
+    return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir + "/stdout.txt"),
+            slurp(dir + "/stderr.txt")};
 }
 
 }  // namespace
@@ -58,7 +58,8 @@ TEST(SuperlocImportExe, ImportsKittiMini) {
     const auto dir = superloc::testing::freshDir("import_exe_kitti");
     const auto data = superloc::testing::sharedData("kitti00-mini");
     const ExeResult r = runExe(
-        "--kitti " + data + " --poses " + data + "/gt_velodyne_tum.txt --out " + dir + "/k.rawlog", dir);
+        "--kitti " + data + " --poses " + data + "/gt_velodyne_tum.txt --out " + dir + "/k.rawlog",
+        dir);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("16 scans, 1959619 points, 16 gt poses"), std::string::npos) << r.out;
     superloc::io::RawlogReader reader(dir + "/k.rawlog");

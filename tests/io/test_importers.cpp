@@ -69,8 +69,11 @@ TEST(Importers, KittiMini) {
     const auto dir = sharedData("kitti00-mini");
     const auto out = freshDir("import_kitti") + "/kitti.rawlog";
     size_t calls = 0;
-    const auto r = importKitti(dir, dir + "/gt_velodyne_tum.txt", "", out,
-                               [&](size_t done, size_t total) { ++calls; EXPECT_LE(done, total); });
+    const auto r =
+        importKitti(dir, dir + "/gt_velodyne_tum.txt", "", out, [&](size_t done, size_t total) {
+            ++calls;
+            EXPECT_LE(done, total);
+        });
     EXPECT_EQ(r.scans, 16u);
     EXPECT_EQ(r.gt_poses, 16u);
     EXPECT_EQ(calls, 16u);
@@ -102,7 +105,8 @@ TEST(Importers, BadInputsGiveOneLineErrors) {
     const auto dir = sharedData("kitti00-mini");
     const auto tmp = freshDir("import_bad");
     const auto out = tmp + "/x.rawlog";
-    expectImportError([&] { importKitti(tmp + "/none", "", "", out); }, "none/velodyne: folder not found");
+    expectImportError([&] { importKitti(tmp + "/none", "", "", out); },
+                      "none/velodyne: folder not found");
     fs::create_directories(tmp + "/empty/velodyne");
     expectImportError([&] { importKitti(tmp + "/empty", "", "", out); }, "no *.bin files");
     std::ofstream(tmp + "/short_times.txt") << "0\n0.1\n";
@@ -115,12 +119,12 @@ TEST(Importers, BadInputsGiveOneLineErrors) {
     expectImportError([&] { importKitti(dir, "", tmp + "/word_times.txt", out); },
                       "word_times.txt:2: not a time");
     std::ofstream(tmp + "/far.tum") << "100 0 0 0 0 0 0 1\n200 0 0 0 0 0 0 1\n";
-    expectImportError([&] { importKitti(dir, tmp + "/far.tum", "", out); },
-                      "no timestamp matches");
+    expectImportError([&] { importKitti(dir, tmp + "/far.tum", "", out); }, "no timestamp matches");
     expectImportError([&] { importPcdFolder(dir + "/velodyne", "", "", out); }, "no *.pcd files");
     fs::create_directories(tmp + "/pcds");
     savePointCloud(tmp + "/pcds/0.pcd", loadPointCloud(dir + "/velodyne/000000.bin"));
-    expectImportError([&] { importPcdFolder(tmp + "/pcds", "", "", out); }, "needs --poses TUM or --times");
+    expectImportError([&] { importPcdFolder(tmp + "/pcds", "", "", out); },
+                      "needs --poses TUM or --times");
     std::ofstream(tmp + "/pcds/1.pcd") << "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\n";  // corrupt
     std::ofstream(tmp + "/two_times.txt") << "0\n0.1\n";
     expectImportError([&] { importPcdFolder(tmp + "/pcds", "", tmp + "/two_times.txt", out); },

@@ -33,7 +33,8 @@ void expectSame(const PointCloud& a, const PointCloud& b, bool intensity, bool n
     }
     if (normals) {
         ASSERT_EQ(b.normals.size(), a.size());
-        for (size_t i = 0; i < a.size(); ++i) EXPECT_LE((a.normals[i] - b.normals[i]).norm(), 1e-6f);
+        for (size_t i = 0; i < a.size(); ++i)
+            EXPECT_LE((a.normals[i] - b.normals[i]).norm(), 1e-6f);
     }
     if (rgb) {
         ASSERT_EQ(b.rgb.size(), a.size());
@@ -71,7 +72,12 @@ void expectLoadError(const std::string& path, const std::string& fragment = "") 
 TEST(PointCloudIo, RoundTripsEveryFormat) {
     const auto dir = freshDir("cloud_rt");
     const PointCloud full = makeCloud(1000, true, true);
-    struct Case { const char* file; CloudFormat fmt; bool i, n, c; float tol; };
+    struct Case {
+        const char* file;
+        CloudFormat fmt;
+        bool i, n, c;
+        float tol;
+    };
     const Case cases[] = {
         {"a.pcd", CloudFormat::PcdBinary, true, true, true, 0},
         {"b.pcd", CloudFormat::PcdAscii, true, true, true, 1e-3f},
@@ -150,7 +156,8 @@ TEST(PointCloudIo, BadFilesGiveOneLineErrors) {
     expectLoadError(dir + "/garbage.pcd");
     writeFile(dir + "/garbage.ply", "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\n");
     expectLoadError(dir + "/garbage.ply", "end_header");
-    writeFile(dir + "/noxyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n");
+    writeFile(dir + "/noxyz.ply",
+              "ply\nformat ascii 1.0\nelement vertex 1\nproperty float a\nend_header\n1\n");
     expectLoadError(dir + "/noxyz.ply", "no x y z");
     writeFile(dir + "/notply.ply", "solid cube\n");
     expectLoadError(dir + "/notply.ply", "magic");
@@ -174,9 +181,11 @@ TEST(PointCloudIo, BadFilesGiveOneLineErrors) {
 TEST(PointCloudIo, ReadsRealPcdScanAndKittiBin) {
     SUPERLOC_REQUIRE_DATA("campus-ouster/scans");
     SUPERLOC_REQUIRE_DATA("kitti00-mini/velodyne/000000.bin");
-    const auto pcd = loadPointCloud(superloc::testing::sharedData("scan-pair-outdoor/251370668.pcd"));
+    const auto pcd =
+        loadPointCloud(superloc::testing::sharedData("scan-pair-outdoor/251370668.pcd"));
     EXPECT_GT(pcd.size(), 60000u);
-    const auto bin = loadPointCloud(superloc::testing::sharedData("kitti00-mini/velodyne/000000.bin"));
+    const auto bin =
+        loadPointCloud(superloc::testing::sharedData("kitti00-mini/velodyne/000000.bin"));
     EXPECT_GT(bin.size(), 100000u);
     ASSERT_EQ(bin.intensity.size(), bin.size());
     for (float i : bin.intensity) ASSERT_TRUE(i >= 0 && i <= 255);  // this copy is 0..255

@@ -1,14 +1,14 @@
 // Rawlog write -> read round trip of every type, ordering, labels, and MRPT's Velodyne files.
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationPointCloud.h>
+#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
-#include <mrpt/obs/CObservationRobotPose.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/rawlog.h>
@@ -98,8 +98,8 @@ TEST(Rawlog, RoundTripEveryType) {
         EXPECT_LE(s.rel_time[i], 0.0f);
         EXPECT_GE(s.rel_time[i], -0.1f);
     }
-    EXPECT_NEAR(s.rel_time[180], -0.1, 1e-4);  // azimuth 180 deg: first firing
-    EXPECT_NEAR(s.rel_time[0], -0.05, 1e-4);   // azimuth 0: half a sweep later
+    EXPECT_NEAR(s.rel_time[180], -0.1, 1e-4);   // azimuth 180 deg: first firing
+    EXPECT_NEAR(s.rel_time[0], -0.05, 1e-4);    // azimuth 0: half a sweep later
     EXPECT_NEAR(s.rel_time[90], -0.025, 1e-4);  // azimuth 90 deg: CCW 180->270->0->90
 
     ASSERT_EQ(items[1].kind, RawlogItem::Kind::Imu);
@@ -243,7 +243,8 @@ TEST(Rawlog, MissingTruncatedAndCorruptFiles) {
 
 TEST(Rawlog, RealVelodyneScansHavePerPointTime) {
     SUPERLOC_REQUIRE_DATA("mrpt-velodyne");
-    for (const char* f : {"mrpt-velodyne/test_velodyne_VLP16.rawlog", "mrpt-velodyne/rot_scan_velodyne.rawlog"}) {
+    for (const char* f :
+         {"mrpt-velodyne/test_velodyne_VLP16.rawlog", "mrpt-velodyne/rot_scan_velodyne.rawlog"}) {
         RawlogStats st;
         const auto items = readAll(superloc::testing::sharedData(f), &st);
         SCOPED_TRACE(f);
@@ -271,17 +272,21 @@ TEST(RawlogParams, LoadSaveValidate) {
     mrpt::config::CConfigFileMemory bad("[rawlog]\nscan_periode = 0.1\n");
     EXPECT_THROW(superloc::loadParams<RawlogParams>(bad, "rawlog", "x.ini"), superloc::ConfigError);
     mrpt::config::CConfigFileMemory wrong("[rawlog]\nscan_period = fast\n");
-    EXPECT_THROW(superloc::loadParams<RawlogParams>(wrong, "rawlog", "x.ini"), superloc::ConfigError);
+    EXPECT_THROW(superloc::loadParams<RawlogParams>(wrong, "rawlog", "x.ini"),
+                 superloc::ConfigError);
     mrpt::config::CConfigFileMemory sense("[rawlog]\nrotation_sense = 2\n");
-    EXPECT_THROW(superloc::loadParams<RawlogParams>(sense, "rawlog", "x.ini"), superloc::ConfigError);
+    EXPECT_THROW(superloc::loadParams<RawlogParams>(sense, "rawlog", "x.ini"),
+                 superloc::ConfigError);
 }
 
 TEST(Rawlog, RotatingScanMatchesTheSameVelodyneScan) {
     // Both MRPT sample files hold the same VLP-16 sweep: raw packets, and fromVelodyne()'s
     // range image. Our range-image projection must reproduce MRPT's calibrated points.
     SUPERLOC_REQUIRE_DATA("mrpt-velodyne");
-    const auto velo = readAll(superloc::testing::sharedData("mrpt-velodyne/test_velodyne_VLP16.rawlog"));
-    const auto rot = readAll(superloc::testing::sharedData("mrpt-velodyne/rot_scan_velodyne.rawlog"));
+    const auto velo =
+        readAll(superloc::testing::sharedData("mrpt-velodyne/test_velodyne_VLP16.rawlog"));
+    const auto rot =
+        readAll(superloc::testing::sharedData("mrpt-velodyne/rot_scan_velodyne.rawlog"));
     ASSERT_EQ(velo.size(), 1u);
     ASSERT_EQ(rot.size(), 1u);
     const auto& a = velo[0].scan().points;

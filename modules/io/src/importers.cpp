@@ -27,7 +27,8 @@ std::vector<std::string> listFiles(const std::string& dir, const std::string& ex
     for (const auto& e : fs::directory_iterator(dir)) {
         if (!e.is_regular_file()) continue;
         std::string x = e.path().extension().string();
-        std::transform(x.begin(), x.end(), x.begin(), [](unsigned char c) { return std::tolower(c); });
+        std::transform(x.begin(), x.end(), x.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
         if (x == ext) files.push_back(e.path().string());
     }
     std::sort(files.begin(), files.end());
@@ -51,9 +52,11 @@ std::vector<double> loadTimes(const std::string& path) {
         char* end = nullptr;
         const double v = std::strtod(s.c_str(), &end);
         if (end != s.c_str() + s.size() || !std::isfinite(v))
-            throw std::runtime_error(path + ":" + std::to_string(lineno) + ": not a time in seconds: '" + s + "'");
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": not a time in seconds: '" + s + "'");
         if (!t.empty() && v <= t.back())
-            throw std::runtime_error(path + ":" + std::to_string(lineno) + ": time does not increase");
+            throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                     ": time does not increase");
         t.push_back(v);
     }
     return t;
@@ -61,8 +64,9 @@ std::vector<double> loadTimes(const std::string& path) {
 
 /// Pose of each scan: by index when there are as many poses as scans, else by timestamp
 /// (within 1 ms); scans without a pose get nullopt.
-std::vector<std::optional<SE3d>> matchPoses(
-    const Trajectory& traj, const std::vector<double>& times, const std::string& tum_path) {
+std::vector<std::optional<SE3d>> matchPoses(const Trajectory& traj,
+                                            const std::vector<double>& times,
+                                            const std::string& tum_path) {
     std::vector<std::optional<SE3d>> out(times.size());
     if (traj.size() == times.size()) {
         for (size_t i = 0; i < times.size(); ++i) out[i] = traj[i].pose;
@@ -79,16 +83,16 @@ std::vector<std::optional<SE3d>> matchPoses(
             }
     }
     if (matched == 0)
-        throw std::runtime_error(
-            tum_path + ": " + std::to_string(traj.size()) + " poses for " +
-            std::to_string(times.size()) + " scans and no timestamp matches a scan time");
+        throw std::runtime_error(tum_path + ": " + std::to_string(traj.size()) + " poses for " +
+                                 std::to_string(times.size()) +
+                                 " scans and no timestamp matches a scan time");
     return out;
 }
 
-ImportResult writeRawlog(
-    const std::vector<std::string>& files, CloudFormat format, const std::vector<double>& times,
-    const std::vector<std::optional<SE3d>>& poses, const std::string& out_rawlog,
-    const ProgressFn& progress) {
+ImportResult writeRawlog(const std::vector<std::string>& files, CloudFormat format,
+                         const std::vector<double>& times,
+                         const std::vector<std::optional<SE3d>>& poses,
+                         const std::string& out_rawlog, const ProgressFn& progress) {
     ImportResult r;
     RawlogWriter w(out_rawlog);
     for (size_t i = 0; i < files.size(); ++i) {
@@ -117,18 +121,18 @@ ImportResult writeRawlog(
 
 void checkCount(size_t n_times, size_t n_scans, const std::string& what) {
     if (n_times != n_scans)
-        throw std::runtime_error(
-            what + ": " + std::to_string(n_times) + " entries for " + std::to_string(n_scans) +
-            " scans (need one per scan)");
+        throw std::runtime_error(what + ": " + std::to_string(n_times) + " entries for " +
+                                 std::to_string(n_scans) + " scans (need one per scan)");
 }
 
 }  // namespace
 
-ImportResult importKitti(
-    const std::string& dir, const std::string& poses_tum, const std::string& times_file,
-    const std::string& out_rawlog, const ProgressFn& progress) {
+ImportResult importKitti(const std::string& dir, const std::string& poses_tum,
+                         const std::string& times_file, const std::string& out_rawlog,
+                         const ProgressFn& progress) {
     const auto files = listFiles((fs::path(dir) / "velodyne").string(), ".bin");
-    const std::string tpath = times_file.empty() ? (fs::path(dir) / "times.txt").string() : times_file;
+    const std::string tpath =
+        times_file.empty() ? (fs::path(dir) / "times.txt").string() : times_file;
     std::optional<Trajectory> traj;
     if (!poses_tum.empty()) traj = loadTum(poses_tum);
     std::vector<double> times;
@@ -146,9 +150,9 @@ ImportResult importKitti(
     return writeRawlog(files, CloudFormat::KittiBin, times, poses, out_rawlog, progress);
 }
 
-ImportResult importPcdFolder(
-    const std::string& dir, const std::string& poses_tum, const std::string& times_file,
-    const std::string& out_rawlog, const ProgressFn& progress) {
+ImportResult importPcdFolder(const std::string& dir, const std::string& poses_tum,
+                             const std::string& times_file, const std::string& out_rawlog,
+                             const ProgressFn& progress) {
     const auto files = listFiles(dir, ".pcd");
     std::optional<Trajectory> traj;
     if (!poses_tum.empty()) traj = loadTum(poses_tum);
@@ -166,7 +170,8 @@ ImportResult importPcdFolder(
             times.push_back((*traj)[i].t);
         }
     } else {
-        throw std::runtime_error(dir + ": a PCD folder needs --poses TUM or --times FILE for the scan times");
+        throw std::runtime_error(
+            dir + ": a PCD folder needs --poses TUM or --times FILE for the scan times");
     }
     std::vector<std::optional<SE3d>> poses;
     if (traj) poses = matchPoses(*traj, times, poses_tum);

@@ -86,7 +86,8 @@ bool fromRotating(const mrpt::obs::CObservationRotatingScan& o, Scan& scan, size
     const bool velodyne = o.rowCount > 1;
     const double cols = velodyne ? double(o.columnCount) / o.rowCount : double(o.columnCount);
     const double sense = velodyne ? -1.0 : 1.0;
-    const bool has_i = o.intensityImage.rows() == o.rowCount && o.intensityImage.cols() == o.columnCount;
+    const bool has_i =
+        o.intensityImage.rows() == o.rowCount && o.intensityImage.cols() == o.columnCount;
     for (int c = 0; c < o.columnCount; ++c) {
         const double frac = c / cols;
         const double az = sense * (o.startAzimuth + o.azimuthSpan * frac);
@@ -119,7 +120,9 @@ std::string firstLine(const std::string& what) {
     while (std::getline(ss, line)) {
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.rfind("Message:", 0) == 0) {
-            line = line.substr(line.find_first_not_of(' ', 8) == std::string::npos ? 8 : line.find_first_not_of(' ', 8));
+            line = line.substr(line.find_first_not_of(' ', 8) == std::string::npos
+                                   ? 8
+                                   : line.find_first_not_of(' ', 8));
             if (first.empty()) first = line;
             last = line;
         } else if (first.empty() && !line.empty() && line.rfind("====", 0) != 0 &&
@@ -148,9 +151,8 @@ void timeFromAzimuth(Scan& scan, const RawlogParams& params) {
     }
 }
 
-LidarConversion lidarFromObservation(
-    const mrpt::obs::CObservation& obs, const RawlogParams& params, Scan& scan,
-    size_t& invalid_points) {
+LidarConversion lidarFromObservation(const mrpt::obs::CObservation& obs, const RawlogParams& params,
+                                     Scan& scan, size_t& invalid_points) {
     using namespace mrpt::obs;
     const bool is_pc = dynamic_cast<const CObservationPointCloud*>(&obs) != nullptr;
     const auto* velo = dynamic_cast<const CObservationVelodyneScan*>(&obs);

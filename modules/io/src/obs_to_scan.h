@@ -17,9 +17,8 @@ enum class LidarConversion { NotLidar, Ok, Unsupported };
 /// returns Ok; otherwise NotLidar. Velodyne scans get their per-point times from MRPT (relative
 /// to the observation timestamp, so >= 0), as do rotating scans (from their column);
 /// point clouds get them from the azimuth (<= 0).
-LidarConversion lidarFromObservation(
-    const mrpt::obs::CObservation& obs, const RawlogParams& params, Scan& scan,
-    size_t& invalid_points);
+LidarConversion lidarFromObservation(const mrpt::obs::CObservation& obs, const RawlogParams& params,
+                                     Scan& scan, size_t& invalid_points);
 
 /// Per-point time from the azimuth for a sweep that ends at scan.t (rel_time in
 /// [-scan_period, 0)); does nothing when params.scan_period is 0.

@@ -11,8 +11,8 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <vector>
 #include <stdexcept>
+#include <vector>
 
 #include "cloud_formats.h"
 
@@ -33,15 +33,45 @@ float readAs(const uint8_t* p, const pcl::PCLPointField& f) {
     using T = pcl::PCLPointField::PointFieldTypes;
     p += f.offset;
     switch (f.datatype) {
-        case T::INT8: { int8_t v; std::memcpy(&v, p, 1); return v; }
-        case T::UINT8: return *p;
-        case T::INT16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-        case T::UINT16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-        case T::INT32: { int32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
-        case T::UINT32: { uint32_t v; std::memcpy(&v, p, 4); return static_cast<float>(v); }
-        case T::FLOAT32: { float v; std::memcpy(&v, p, 4); return v; }
-        case T::FLOAT64: { double v; std::memcpy(&v, p, 8); return static_cast<float>(v); }
-        default: return 0;
+        case T::INT8: {
+            int8_t v;
+            std::memcpy(&v, p, 1);
+            return v;
+        }
+        case T::UINT8:
+            return *p;
+        case T::INT16: {
+            int16_t v;
+            std::memcpy(&v, p, 2);
+            return v;
+        }
+        case T::UINT16: {
+            uint16_t v;
+            std::memcpy(&v, p, 2);
+            return v;
+        }
+        case T::INT32: {
+            int32_t v;
+            std::memcpy(&v, p, 4);
+            return static_cast<float>(v);
+        }
+        case T::UINT32: {
+            uint32_t v;
+            std::memcpy(&v, p, 4);
+            return static_cast<float>(v);
+        }
+        case T::FLOAT32: {
+            float v;
+            std::memcpy(&v, p, 4);
+            return v;
+        }
+        case T::FLOAT64: {
+            double v;
+            std::memcpy(&v, p, 8);
+            return static_cast<float>(v);
+        }
+        default:
+            return 0;
     }
 }
 
@@ -68,8 +98,9 @@ void checkHeader(const std::string& path) {
         std::istringstream ss(line);
         std::string key, tok;
         ss >> key;
-        static const std::set<std::string> known = {"VERSION", "FIELDS", "SIZE", "TYPE", "COUNT",
-                                                    "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"};
+        static const std::set<std::string> known = {"VERSION", "FIELDS", "SIZE",   "TYPE",
+                                                    "COUNT",   "WIDTH",  "HEIGHT", "VIEWPOINT",
+                                                    "POINTS",  "DATA"};
         if (!known.count(key)) throw bad("unknown line '" + line.substr(0, 40) + "'");
         if (h.count(key)) throw bad("repeated " + key);
         auto& v = h[key];
@@ -79,7 +110,8 @@ void checkHeader(const std::string& path) {
     for (const char* k : {"FIELDS", "SIZE", "TYPE", "WIDTH", "HEIGHT", "DATA"})
         if (!h.count(k) || h[k].empty()) throw bad(std::string("no ") + k + " line");
     const size_t nf = h["FIELDS"].size();
-    if (h["SIZE"].size() != nf || h["TYPE"].size() != nf || (h.count("COUNT") && h["COUNT"].size() != nf))
+    if (h["SIZE"].size() != nf || h["TYPE"].size() != nf ||
+        (h.count("COUNT") && h["COUNT"].size() != nf))
         throw bad("FIELDS, SIZE, TYPE and COUNT have different lengths");
     long long step = 0;
     for (size_t i = 0; i < nf; ++i) {
@@ -102,12 +134,13 @@ void checkHeader(const std::string& path) {
     // exactly; ASCII: at least "v " per value) so a corrupt count cannot claim gigabytes.
     const auto header_end = static_cast<long long>(in.tellg());
     const auto size = static_cast<long long>(std::filesystem::file_size(path));
-    const long long need = data == "binary" ? w * ht * step
+    const long long need = data == "binary"  ? w * ht * step
                            : data == "ascii" ? w * ht * static_cast<long long>(nf) * 2 - 1
                                              : 0;
     if (header_end < 0 || size - header_end < need)
-        throw std::runtime_error(path + ": truncated PCD file (" + std::to_string(size - header_end) +
-                                 " data bytes for " + std::to_string(w * ht) + " points)");
+        throw std::runtime_error(path + ": truncated PCD file (" +
+                                 std::to_string(size - header_end) + " data bytes for " +
+                                 std::to_string(w * ht) + " points)");
 }
 
 }  // namespace
@@ -122,7 +155,8 @@ PointCloud readPcd(const std::string& path) {
     } catch (const std::exception& e) {
         throw std::runtime_error(path + ": corrupt PCD file (" + std::string(e.what()) + ")");
     }
-    if (rc < 0) throw std::runtime_error(path + ": corrupt or truncated PCD file (PCL could not read it)");
+    if (rc < 0)
+        throw std::runtime_error(path + ": corrupt or truncated PCD file (PCL could not read it)");
     const auto *fx = findField(pc, "x"), *fy = findField(pc, "y"), *fz = findField(pc, "z");
     if (!fx || !fy || !fz) throw std::runtime_error(path + ": PCD file has no x y z fields");
     const size_t n = static_cast<size_t>(pc.width) * pc.height;
@@ -192,15 +226,17 @@ void writePcd(const std::string& path, const PointCloud& c, bool binary) {
         uint8_t* p = pc.data.data() + i * pc.point_step;
         std::memcpy(p, v, 4 * k);
         if (!c.rgb.empty()) {
-            const uint32_t rgb = (uint32_t(c.rgb[i][0]) << 16) | (uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
+            const uint32_t rgb =
+                (uint32_t(c.rgb[i][0]) << 16) | (uint32_t(c.rgb[i][1]) << 8) | c.rgb[i][2];
             std::memcpy(p + 4 * k, &rgb, 4);
         }
     }
     pcl::PCDWriter w;
     int rc = -1;
     try {
-        rc = binary ? w.writeBinary(path, pc) : w.writeASCII(path, pc, Eigen::Vector4f::Zero(),
-                                                            Eigen::Quaternionf::Identity(), 9);
+        rc = binary ? w.writeBinary(path, pc)
+                    : w.writeASCII(path, pc, Eigen::Vector4f::Zero(),
+                                   Eigen::Quaternionf::Identity(), 9);
     } catch (const std::exception& e) {
         throw std::runtime_error(path + ": cannot write PCD (" + std::string(e.what()) + ")");
     }

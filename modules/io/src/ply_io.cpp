@@ -17,16 +17,19 @@ namespace {
 
 struct Prop {
     std::string name;
-    int size = 0;  // bytes
+    int size = 0;     // bytes
     char kind = 'f';  // 'f' float, 'i' signed, 'u' unsigned
 };
 
 bool scalarType(const std::string& t, Prop& p) {
-    static const struct { const char* n; int s; char k; } types[] = {
-        {"char", 1, 'i'}, {"int8", 1, 'i'}, {"uchar", 1, 'u'}, {"uint8", 1, 'u'},
-        {"short", 2, 'i'}, {"int16", 2, 'i'}, {"ushort", 2, 'u'}, {"uint16", 2, 'u'},
-        {"int", 4, 'i'}, {"int32", 4, 'i'}, {"uint", 4, 'u'}, {"uint32", 4, 'u'},
-        {"float", 4, 'f'}, {"float32", 4, 'f'}, {"double", 8, 'f'}, {"float64", 8, 'f'}};
+    static const struct {
+        const char* n;
+        int s;
+        char k;
+    } types[] = {{"char", 1, 'i'},  {"int8", 1, 'i'},    {"uchar", 1, 'u'},  {"uint8", 1, 'u'},
+                 {"short", 2, 'i'}, {"int16", 2, 'i'},   {"ushort", 2, 'u'}, {"uint16", 2, 'u'},
+                 {"int", 4, 'i'},   {"int32", 4, 'i'},   {"uint", 4, 'u'},   {"uint32", 4, 'u'},
+                 {"float", 4, 'f'}, {"float32", 4, 'f'}, {"double", 8, 'f'}, {"float64", 8, 'f'}};
     for (const auto& ty : types)
         if (t == ty.n) return p.size = ty.s, p.kind = ty.k, true;
     return false;
@@ -38,16 +41,40 @@ double decode(const char* b, const Prop& p, bool swap) {
     if (swap) std::reverse(tmp, tmp + p.size);
     switch (p.kind) {
         case 'f':
-            if (p.size == 4) { float v; std::memcpy(&v, tmp, 4); return v; }
-            { double v; std::memcpy(&v, tmp, 8); return v; }
+            if (p.size == 4) {
+                float v;
+                std::memcpy(&v, tmp, 4);
+                return v;
+            }
+            {
+                double v;
+                std::memcpy(&v, tmp, 8);
+                return v;
+            }
         case 'i':
             if (p.size == 1) return static_cast<int8_t>(tmp[0]);
-            if (p.size == 2) { int16_t v; std::memcpy(&v, tmp, 2); return v; }
-            { int32_t v; std::memcpy(&v, tmp, 4); return v; }
+            if (p.size == 2) {
+                int16_t v;
+                std::memcpy(&v, tmp, 2);
+                return v;
+            }
+            {
+                int32_t v;
+                std::memcpy(&v, tmp, 4);
+                return v;
+            }
         default:
             if (p.size == 1) return static_cast<uint8_t>(tmp[0]);
-            if (p.size == 2) { uint16_t v; std::memcpy(&v, tmp, 2); return v; }
-            { uint32_t v; std::memcpy(&v, tmp, 4); return v; }
+            if (p.size == 2) {
+                uint16_t v;
+                std::memcpy(&v, tmp, 2);
+                return v;
+            }
+            {
+                uint32_t v;
+                std::memcpy(&v, tmp, 4);
+                return v;
+            }
     }
 }
 
@@ -63,7 +90,9 @@ int indexOf(const std::vector<Prop>& props, std::initializer_list<const char*> n
 PointCloud readPly(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open");
-    const auto bad = [&](const std::string& why) { return std::runtime_error(path + ": bad PLY: " + why); };
+    const auto bad = [&](const std::string& why) {
+        return std::runtime_error(path + ": bad PLY: " + why);
+    };
     std::string line;
     if (!std::getline(in, line) || line.substr(0, 3) != "ply") throw bad("missing 'ply' magic");
     std::string format;
@@ -107,7 +136,8 @@ PointCloud readPly(const std::string& path) {
     if (!vertex_first) throw bad("elements before 'vertex' are not supported");
     const int ix = indexOf(props, {"x"}), iy = indexOf(props, {"y"}), iz = indexOf(props, {"z"});
     if (ix < 0 || iy < 0 || iz < 0) throw bad("vertex element has no x y z");
-    const int ii = indexOf(props, {"intensity", "scalar_intensity", "reflectance", "scalar_Intensity"});
+    const int ii =
+        indexOf(props, {"intensity", "scalar_intensity", "reflectance", "scalar_Intensity"});
     const int inx = indexOf(props, {"nx", "normal_x"}), iny = indexOf(props, {"ny", "normal_y"}),
               inz = indexOf(props, {"nz", "normal_z"});
     const int ir = indexOf(props, {"red", "r"}), ig = indexOf(props, {"green", "g"}),
@@ -141,10 +171,15 @@ PointCloud readPly(const std::string& path) {
     };
     if (format == "ascii") {
         for (size_t k = 0; k < n_vertex; ++k) {
-            if (!std::getline(in, line)) throw bad("truncated: " + std::to_string(k) + " of " + std::to_string(n_vertex) + " vertices");
+            if (!std::getline(in, line))
+                throw bad("truncated: " + std::to_string(k) + " of " + std::to_string(n_vertex) +
+                          " vertices");
             std::istringstream ss(line);
             for (size_t j = 0; j < props.size(); ++j)
-                if (!(ss >> v[j])) throw bad("vertex " + std::to_string(k) + ": expected " + std::to_string(props.size()) + " numbers (truncated or malformed line)");
+                if (!(ss >> v[j]))
+                    throw bad("vertex " + std::to_string(k) + ": expected " +
+                              std::to_string(props.size()) +
+                              " numbers (truncated or malformed line)");
             store(k);
         }
     } else {
@@ -204,7 +239,8 @@ void writePly(const std::string& path, const PointCloud& c, bool binary) {
                 n += std::snprintf(buf + n, sizeof(buf) - n, " %.9g %.9g %.9g", c.normals[i].x(),
                                    c.normals[i].y(), c.normals[i].z());
             if (has_c)
-                n += std::snprintf(buf + n, sizeof(buf) - n, " %d %d %d", c.rgb[i][0], c.rgb[i][1], c.rgb[i][2]);
+                n += std::snprintf(buf + n, sizeof(buf) - n, " %d %d %d", c.rgb[i][0], c.rgb[i][1],
+                                   c.rgb[i][2]);
             out << buf << '\n';
         }
     }

@@ -15,13 +15,14 @@ namespace superloc::io {
 
 CloudFormat formatFromExtension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext == ".pcd") return CloudFormat::PcdBinary;
     if (ext == ".ply") return CloudFormat::Ply;
     if (ext == ".bin") return CloudFormat::KittiBin;
     if (ext == ".txt" || ext == ".xyz") return CloudFormat::Text;
-    throw std::runtime_error(
-        path + ": unknown point-cloud extension '" + ext + "' (use .pcd .ply .bin .txt .xyz)");
+    throw std::runtime_error(path + ": unknown point-cloud extension '" + ext +
+                             "' (use .pcd .ply .bin .txt .xyz)");
 }
 
 size_t dropNonFinite(PointCloud& c) {
@@ -50,12 +51,21 @@ PointCloud loadPointCloud(const std::string& path, CloudFormat format, size_t* d
     PointCloud c;
     switch (format) {
         case CloudFormat::PcdBinary:
-        case CloudFormat::PcdAscii: c = detail::readPcd(path); break;
+        case CloudFormat::PcdAscii:
+            c = detail::readPcd(path);
+            break;
         case CloudFormat::Ply:
-        case CloudFormat::PlyAscii: c = detail::readPly(path); break;
-        case CloudFormat::KittiBin: c = detail::readKittiBin(path); break;
-        case CloudFormat::Text: c = detail::readText(path); break;
-        case CloudFormat::Auto: break;
+        case CloudFormat::PlyAscii:
+            c = detail::readPly(path);
+            break;
+        case CloudFormat::KittiBin:
+            c = detail::readKittiBin(path);
+            break;
+        case CloudFormat::Text:
+            c = detail::readText(path);
+            break;
+        case CloudFormat::Auto:
+            break;
     }
     const size_t n = dropNonFinite(c);
     if (dropped) *dropped = n;
@@ -70,13 +80,26 @@ void savePointCloud(const std::string& path, const PointCloud& cloud, CloudForma
         throw std::runtime_error(path + ": cannot save: attribute sizes differ from point count");
     if (format == CloudFormat::Auto) format = formatFromExtension(path);
     switch (format) {
-        case CloudFormat::PcdBinary: detail::writePcd(path, cloud, true); break;
-        case CloudFormat::PcdAscii: detail::writePcd(path, cloud, false); break;
-        case CloudFormat::Ply: detail::writePly(path, cloud, true); break;
-        case CloudFormat::PlyAscii: detail::writePly(path, cloud, false); break;
-        case CloudFormat::KittiBin: detail::writeKittiBin(path, cloud); break;
-        case CloudFormat::Text: detail::writeText(path, cloud); break;
-        case CloudFormat::Auto: break;
+        case CloudFormat::PcdBinary:
+            detail::writePcd(path, cloud, true);
+            break;
+        case CloudFormat::PcdAscii:
+            detail::writePcd(path, cloud, false);
+            break;
+        case CloudFormat::Ply:
+            detail::writePly(path, cloud, true);
+            break;
+        case CloudFormat::PlyAscii:
+            detail::writePly(path, cloud, false);
+            break;
+        case CloudFormat::KittiBin:
+            detail::writeKittiBin(path, cloud);
+            break;
+        case CloudFormat::Text:
+            detail::writeText(path, cloud);
+            break;
+        case CloudFormat::Auto:
+            break;
     }
 }
 
@@ -85,9 +108,8 @@ namespace detail {
 PointCloud readKittiBin(const std::string& path) {
     const auto bytes = std::filesystem::file_size(path);
     if (bytes % (4 * sizeof(float)) != 0)
-        throw std::runtime_error(
-            path + ": truncated KITTI .bin (" + std::to_string(bytes) +
-            " bytes is not a multiple of 16: float32 x y z reflectance)");
+        throw std::runtime_error(path + ": truncated KITTI .bin (" + std::to_string(bytes) +
+                                 " bytes is not a multiple of 16: float32 x y z reflectance)");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open");
     const size_t n = bytes / (4 * sizeof(float));
@@ -136,11 +158,13 @@ PointCloud readText(const std::string& path) {
         std::string tok;
         while (ss >> tok) {
             if (k == 4)
-                throw std::runtime_error(path + ":" + std::to_string(lineno) + ": more than 4 columns (expected 'x y z [i]')");
+                throw std::runtime_error(path + ":" + std::to_string(lineno) +
+                                         ": more than 4 columns (expected 'x y z [i]')");
             char* end = nullptr;
             v[k] = std::strtof(tok.c_str(), &end);
             if (end != tok.c_str() + tok.size())
-                throw std::runtime_error(path + ":" + std::to_string(lineno) + ": not a number: '" + tok + "'");
+                throw std::runtime_error(path + ":" + std::to_string(lineno) + ": not a number: '" +
+                                         tok + "'");
             ++k;
         }
         if (k < 3 || (cols != -1 && k != cols))

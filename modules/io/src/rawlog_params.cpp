@@ -7,8 +7,8 @@
 
 namespace superloc::io {
 
-void RawlogParams::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void RawlogParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(odom_alt_label, string, c, s);
     MRPT_LOAD_CONFIG_VAR(gt_label, string, c, s);
     MRPT_LOAD_CONFIG_VAR(lidar_label, string, c, s);

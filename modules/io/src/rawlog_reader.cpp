@@ -56,7 +56,8 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
 
     void push(RawlogItem&& item) {
         const double t = item.time();
-        if (!std::isfinite(t)) throw std::runtime_error(where() + "observation without a valid timestamp");
+        if (!std::isfinite(t))
+            throw std::runtime_error(where() + "observation without a valid timestamp");
         if (t < newest - params.reorder_window - 1e-9)
             throw std::runtime_error(
                 where() + "timestamp goes backwards by " + std::to_string(newest - t) +
@@ -84,7 +85,9 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
                 return;
             }
             if (scan.empty()) {
-                warnOnce(++stats.empty_scans, "LiDAR observation (" + std::string(obs.GetRuntimeClass()->className) + ") without valid points skipped");
+                warnOnce(++stats.empty_scans, "LiDAR observation (" +
+                                                  std::string(obs.GetRuntimeClass()->className) +
+                                                  ") without valid points skipped");
                 return;
             }
             ++stats.lidar;
@@ -126,14 +129,17 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
             p.cov = covFromMrpt(rp->pose.cov);
             if (!p.pose.matrix().allFinite())
                 throw std::runtime_error(where() + "non-finite pose in '" + rp->sensorLabel + "'");
-            if (is_odom) ++stats.odom_alt; else ++stats.gt;
+            if (is_odom)
+                ++stats.odom_alt;
+            else
+                ++stats.gt;
             item.kind = is_odom ? RawlogItem::Kind::OdomAlt : RawlogItem::Kind::GroundTruth;
             item.data = p;
             push(std::move(item));
         } else {
             warnOnce(++stats.unknown_observations,
-                     "observation of unused class " + std::string(obs.GetRuntimeClass()->className) +
-                         " skipped");
+                     "observation of unused class " +
+                         std::string(obs.GetRuntimeClass()->className) + " skipped");
         }
     }
 
@@ -149,8 +155,8 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
             return;
         } catch (const std::exception& e) {
             ++entry;
-            throw std::runtime_error(
-                where() + "corrupt or truncated rawlog: " + detail::firstLine(e.what()));
+            throw std::runtime_error(where() +
+                                     "corrupt or truncated rawlog: " + detail::firstLine(e.what()));
         }
         ++entry;
         if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
@@ -159,9 +165,8 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
             for (const auto& o : *sf)
                 if (o) handle(*o);
         } else if (!std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
-            throw std::runtime_error(
-                where() + "not a rawlog entry: object of class " +
-                std::string(obj ? obj->GetRuntimeClass()->className : "null"));
+            throw std::runtime_error(where() + "not a rawlog entry: object of class " +
+                                     std::string(obj ? obj->GetRuntimeClass()->className : "null"));
         }
     }
 };

@@ -38,7 +38,8 @@ void RawlogWriter::write(const mrpt::obs::CObservation& obs) {
         auto arch = mrpt::serialization::archiveFrom(impl_->file);
         arch << obs;
     } catch (const std::exception& e) {
-        throw std::runtime_error(impl_->path + ": write error: " + std::string(e.what()).substr(0, 200));
+        throw std::runtime_error(impl_->path +
+                                 ": write error: " + std::string(e.what()).substr(0, 200));
     }
 }
 

@@ -29,24 +29,24 @@ Trajectory loadTum(const std::string& path) {
         double v[8];
         for (int i = 0; i < 8; ++i) {
             if (!(ss >> v[i]))
-                throw std::runtime_error(
-                    where(path, lineno) + "expected 8 numbers 't x y z qx qy qz qw', got '" +
-                    line.substr(first) + "'");
+                throw std::runtime_error(where(path, lineno) +
+                                         "expected 8 numbers 't x y z qx qy qz qw', got '" +
+                                         line.substr(first) + "'");
             if (!std::isfinite(v[i]))
                 throw std::runtime_error(where(path, lineno) + "non-finite value");
         }
         std::string extra;
         if (ss >> extra)
-            throw std::runtime_error(
-                where(path, lineno) + "unexpected trailing text '" + extra + "'");
+            throw std::runtime_error(where(path, lineno) + "unexpected trailing text '" + extra +
+                                     "'");
         const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
         if (qn < 1e-6 || std::abs(qn - 1.0) > 1e-2)
-            throw std::runtime_error(
-                where(path, lineno) + "quaternion is not unit (norm " + std::to_string(qn) + ")");
+            throw std::runtime_error(where(path, lineno) + "quaternion is not unit (norm " +
+                                     std::to_string(qn) + ")");
         if (!traj.empty() && v[0] < traj.back().t)
-            throw std::runtime_error(
-                where(path, lineno) + "timestamp goes backwards (" + std::to_string(v[0]) +
-                " < " + std::to_string(traj.back().t) + ")");
+            throw std::runtime_error(where(path, lineno) + "timestamp goes backwards (" +
+                                     std::to_string(v[0]) + " < " + std::to_string(traj.back().t) +
+                                     ")");
         PoseStamped p;
         p.t = v[0];
         p.pose = makePose(v[1], v[2], v[3], v[4], v[5], v[6], v[7]);
@@ -60,9 +60,8 @@ std::string formatTumLine(double t, const SE3d& pose) {
     const Eigen::Quaterniond q(pose.linear());
     const Vec3d& x = pose.translation();
     char buf[256];
-    std::snprintf(
-        buf, sizeof(buf), "%.9f %.15g %.15g %.15g %.15g %.15g %.15g %.15g", t, x.x(), x.y(), x.z(),
-        q.x(), q.y(), q.z(), q.w());
+    std::snprintf(buf, sizeof(buf), "%.9f %.15g %.15g %.15g %.15g %.15g %.15g %.15g", t, x.x(),
+                  x.y(), x.z(), q.x(), q.y(), q.z(), q.w());
     return buf;
 }
 

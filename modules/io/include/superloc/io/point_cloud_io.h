@@ -15,13 +15,13 @@ enum class CloudFormat { Auto, PcdBinary, PcdAscii, Ply, KittiBin, Text, PlyAsci
 /// given. NaN/inf points are dropped and counted in `dropped` (if not null). Throws
 /// std::runtime_error with a one-line message naming the file on a missing, truncated or
 /// malformed file.
-PointCloud loadPointCloud(
-    const std::string& path, CloudFormat format = CloudFormat::Auto, size_t* dropped = nullptr);
+PointCloud loadPointCloud(const std::string& path, CloudFormat format = CloudFormat::Auto,
+                          size_t* dropped = nullptr);
 
 /// Saves a point cloud (with intensity/normals/rgb when present). Auto picks by extension;
 /// .pcd is written binary. Throws std::runtime_error naming the file on failure.
-void savePointCloud(
-    const std::string& path, const PointCloud& cloud, CloudFormat format = CloudFormat::Auto);
+void savePointCloud(const std::string& path, const PointCloud& cloud,
+                    CloudFormat format = CloudFormat::Auto);
 
 /// The format chosen for a path by extension (case-insensitive); throws naming the file when
 /// the extension is unknown.

@@ -75,11 +75,11 @@ struct RawlogStats {
 ///  - CObservationRotatingScan (VLP-16 / HDL-32E range images as MRPT 2.5.8's fromVelodyne()
 ///    writes them, or 1-row 2-D scans): from the column, also >= 0. Other models carry no beam
 ///    angles in MRPT 2.5.8 and are skipped (counted in unknown_observations).
-/// Intensity: as stored (CPointsMapXYZI), or 0..1 for Velodyne/rotating scans (byte / 255). Throws std::runtime_error with a one-line message
-/// naming the file (and the entry index) on a missing, truncated or corrupt file, or on
-/// timestamps going backwards by more than the reorder window.
+/// Intensity: as stored (CPointsMapXYZI), or 0..1 for Velodyne/rotating scans (byte / 255). Throws
+/// std::runtime_error with a one-line message naming the file (and the entry index) on a missing,
+/// truncated or corrupt file, or on timestamps going backwards by more than the reorder window.
 class RawlogReader {
-   public:
+ public:
     explicit RawlogReader(const std::string& path, const RawlogParams& params = {});
     ~RawlogReader();
     RawlogReader(const RawlogReader&) = delete;
@@ -91,14 +91,14 @@ class RawlogReader {
     const RawlogStats& stats() const;
     const std::string& path() const;
 
-   private:
+ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 
 /// Writes a rawlog (observations-only format, gz-compressed), readable by `rawlog-edit --info`.
 class RawlogWriter {
-   public:
+ public:
     explicit RawlogWriter(const std::string& path);
     ~RawlogWriter();
     RawlogWriter(const RawlogWriter&) = delete;
@@ -114,7 +114,7 @@ class RawlogWriter {
     void write(const mrpt::obs::CObservation& obs);
     void close();
 
-   private:
+ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

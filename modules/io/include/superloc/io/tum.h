@@ -17,12 +17,12 @@ void saveTum(const std::string& path, const Trajectory& traj);
 
 /// Appends poses one at a time and flushes each line, so a run that stops keeps what it wrote.
 class TumWriter {
-   public:
+ public:
     explicit TumWriter(const std::string& path, const std::string& header_comment = "");
     void write(const PoseStamped& p);
     void write(double t, const SE3d& pose);
 
-   private:
+ private:
     std::string path_;
     std::ofstream out_;
 };
