@@ -31,6 +31,8 @@ function(superloc_app name src)
   cmake_parse_arguments(A "" "" "DEPS" ${ARGN})
   add_executable(${name} ${src})
   target_link_libraries(${name} PRIVATE ${A_DEPS})
+  # All apps side by side in build/bin: superloc-bench runs its siblings.
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
   superloc_target_options(${name})
 endfunction()
 

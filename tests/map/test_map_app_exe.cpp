@@ -11,7 +11,7 @@
 
 namespace {
 
-const std::string kExe = std::string(SUPERLOC_BINARY_DIR) + "/apps/superloc-map/superloc-map";
+const std::string kExe = superloc::testing::appPath("superloc-map");
 
 struct ExeResult {
     int code;

@@ -18,6 +18,11 @@ inline std::string sourcePath(const std::string& rel) {
     return (std::filesystem::path(SUPERLOC_SOURCE_DIR) / rel).string();
 }
 
+/// Path of a built app, e.g. appPath("superloc-map") (all apps are built into build/bin).
+inline std::string appPath(const std::string& app) {
+    return (std::filesystem::path(SUPERLOC_BINARY_DIR) / "bin" / app).string();
+}
+
 /// A fresh, empty folder for one test's outputs (under the build tree), removed first if present.
 inline std::string freshDir(const std::string& name) {
     const auto dir = std::filesystem::path(SUPERLOC_BINARY_DIR) / "test-output" / name;
