@@ -196,5 +196,6 @@ bool RawlogReader::next(RawlogItem& item) {
 
 const RawlogStats& RawlogReader::stats() const { return impl_->stats; }
 const std::string& RawlogReader::path() const { return impl_->path; }
+mrpt::system::COutputLogger& RawlogReader::logger() { return *impl_; }
 
 }  // namespace superloc::io

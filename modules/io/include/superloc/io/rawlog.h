@@ -12,6 +12,9 @@
 namespace mrpt::obs {
 class CObservation;
 }
+namespace mrpt::system {
+class COutputLogger;
+}
 
 namespace superloc::io {
 
@@ -90,6 +93,8 @@ class RawlogReader {
 
     const RawlogStats& stats() const;
     const std::string& path() const;
+    /// The logger of the (once-per-kind) warnings, e.g. to lower its verbosity for --quiet.
+    mrpt::system::COutputLogger& logger();
 
  private:
     struct Impl;
