@@ -52,7 +52,7 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
         if (std::abs(nz) < 0.6f) g = 2;
         else if (nz > 0 && g == 0) g = 1;
     }
-    const double px = std::min(25.0, opt.max_pixels / (std::max(nx, ny) * cell));  // px per metre
+    const double px = std::min(50.0, opt.max_pixels / (std::max(nx, ny) * cell));  // px per metre
     const double W = nx * cell * px, H = ny * cell * px + 30;
     const auto X = [&](double x) { return (x - lo.x()) * px; };
     const auto Y = [&](double y) { return (hi.y() - y) * px + 30; };  // north up

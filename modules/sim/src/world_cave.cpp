@@ -71,7 +71,8 @@ World buildCave(const CaveParams& p, uint64_t seed, double body_height) {
     for (int i = 0; i < n; ++i) {
         const double s = i * p.station_step;
         heading[i] = p.winding_deg * d2r *
-                     (0.6 * std::sin(2 * M_PI * s / 47 + ph[0]) + 0.4 * std::sin(2 * M_PI * s / 19 + ph[1]));
+                     (0.5 * std::sin(2 * M_PI * s / 47 + ph[0]) + 0.3 * std::sin(2 * M_PI * s / 19 + ph[1]) +
+                      0.9 * std::sin(2 * M_PI * s / 130 + ph[2] + ph[3]));
         const double slope = p.max_slope_deg * d2r * std::sin(2 * M_PI * s / 61 + ph[2]);
         const double wf = 0.5 + 0.5 * (0.7 * std::sin(2 * M_PI * s / 29 + ph[3]) +
                                        0.3 * std::sin(2 * M_PI * s / 11 + ph[4]));
