@@ -61,6 +61,23 @@ TEST(AlignmentRisk, HandComputedLabelsAndGamma) {
 // Weighted counts: two z-labels of weight 0.5 and 0.1 and one x-label of weight 1:
 // N = (1, 0, 0.6); gamma_x = min(1, 3/1.6) = 1, gamma_z = 3*0.6/1.6 = 1.125 -> 1, gamma_y = 0.
 // Unweighted, the same set gives N = (1, 0, 2).
+// Two rotation labels (default): p = (1,0,2), n = (0,1,0): p x n = (0*0-2*1, 2*0-1*0, 1*1-0*0)
+// = (-2, 0, 1) -> first label roll, second yaw (pitch component 0: no label).
+// N_rot = (1, 0, 1) -> gamma_rot = (min(1, 3/2), 0, min(1, 3/2)) = (1, 0, 1).
+// With one label only roll counts: gamma_rot = (1, 0, 0).
+TEST(AlignmentRisk, TwoRotationLabelsHandComputed) {
+    const std::vector<Correspondence> cs = {corr({1, 0, 2}, {0, 1, 0})};
+    const auto r2 = computeAlignmentRisk(cs, RiskParams{});
+    EXPECT_EQ(r2.rotation_label[0], 3);
+    EXPECT_EQ(r2.rotation_label2[0], 5);
+    EXPECT_TRUE(r2.gamma.tail<3>().isApprox(Eigen::Vector3d(1, 0, 1))) << r2.gamma.transpose();
+    RiskParams one;
+    one.rotation_labels = 1;
+    const auto r1 = computeAlignmentRisk(cs, one);
+    EXPECT_EQ(r1.rotation_label2[0], kNoLabel);
+    EXPECT_TRUE(r1.gamma.tail<3>().isApprox(Eigen::Vector3d(1, 0, 0))) << r1.gamma.transpose();
+}
+
 TEST(AlignmentRisk, WeightsCountFractionally) {
     const std::vector<Correspondence> cs = {
         corr({1, 1, 0}, {0, 0, 1}, 0.5), corr({1, 2, 0}, {0, 0, 1}, 0.1),
@@ -103,10 +120,20 @@ TEST(AlignmentRisk, ZeroLeverArmHasNoRotationLabel) {
 
 // An infinite floor 1.8 m below the sensor: every normal is z; p x n = (y, -x, 0) never has a
 // yaw part. Degenerate: x, y, yaw. Healthy: z, roll, pitch.
-TEST(AlignmentRisk, InfinitePlaneIsDegenerateInXYYaw) {
+class SceneTest : public ::testing::TestWithParam<int> {
+   protected:
+    RiskParams params() const {
+        RiskParams p;
+        p.rotation_labels = GetParam();
+        return p;
+    }
+};
+INSTANTIATE_TEST_SUITE_P(RotationLabels, SceneTest, ::testing::Values(1, 2));
+
+TEST_P(SceneTest, InfinitePlaneIsDegenerateInXYYaw) {
     const auto cs = castScene({{2, -1.8}}, 360, 32, -45, -5, 1e6);
     ASSERT_GT(cs.size(), 1000u);
-    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    const auto r = computeAlignmentRisk(cs, params());
     EXPECT_EQ(degenerateAxes(r), "xyyaw");
     EXPECT_EQ(r.gamma[2], 1.0);
     EXPECT_GT(r.gamma[3], 0.9);
@@ -119,18 +146,18 @@ TEST(AlignmentRisk, InfinitePlaneIsDegenerateInXYYaw) {
 
 // A corridor along x: walls at y = -1.5, +1.6, floor at z = -1.2, ceiling at z = +1.4, open ends
 // (returns up to 30 m). Only x is degenerate.
-TEST(AlignmentRisk, CorridorIsDegenerateInXOnly) {
+TEST_P(SceneTest, CorridorIsDegenerateInXOnly) {
     const auto cs = castScene({{1, -1.5}, {1, 1.6}, {2, -1.2}, {2, 1.4}});
-    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    const auto r = computeAlignmentRisk(cs, params());
     EXPECT_EQ(degenerateAxes(r), "x") << r.gamma.transpose();
     EXPECT_EQ(r.counts[0], 0.0);
     EXPECT_GT(r.gamma.tail<5>().minCoeff(), 0.2);
 }
 
 // A 12 x 9 x 3 m room, sensor off-centre: nothing degenerate, and a well-conditioned Hessian.
-TEST(AlignmentRisk, BoxRoomHasNoDegenerateAxis) {
+TEST_P(SceneTest, BoxRoomHasNoDegenerateAxis) {
     const auto cs = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}});
-    const auto r = computeAlignmentRisk(cs, RiskParams{});
+    const auto r = computeAlignmentRisk(cs, params());
     EXPECT_EQ(degenerateAxes(r), "") << r.gamma.transpose();
     EXPECT_FALSE(r.anyDegenerate());
     EXPECT_GT(r.gamma.minCoeff(), 0.3);
@@ -158,6 +185,8 @@ TEST(RiskParams, LoadsValidatesAndSaves) {
     EXPECT_FALSE(p.weighted_labels);
     mrpt::config::CConfigFileMemory bad("[risk]\ndegenerate_threshold = 1.5\n");
     EXPECT_THROW(loadParams<RiskParams>(bad, "risk", "t.ini"), ConfigError);
+    mrpt::config::CConfigFileMemory bad3("[risk]\nrotation_labels = 3\n");
+    EXPECT_THROW(loadParams<RiskParams>(bad3, "risk", "t.ini"), ConfigError);
     mrpt::config::CConfigFileMemory typo("[risk]\ndegenerate_treshold = 0.2\n");
     EXPECT_THROW(loadParams<RiskParams>(typo, "risk", "t.ini"), ConfigError);
     mrpt::config::CConfigFileMemory out;

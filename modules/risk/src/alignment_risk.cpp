@@ -16,13 +16,22 @@ int argmaxAbs(const Vec3d& v) {
     return best;
 }
 
+/// Index of the second-largest |component| of v (ties to the lower index), or -1 when it is 0.
+int secondAbs(const Vec3d& v, int first) {
+    int best = -1;
+    for (int k = 0; k < 3; ++k)
+        if (k != first && v[k] != 0 && (best < 0 || std::abs(v[k]) > std::abs(v[best]))) best = k;
+    return best;
+}
+
 bool usable(const Correspondence& c) {
     return c.p.allFinite() && c.n.allFinite() && std::isfinite(c.weight) && c.weight > 0 &&
            c.n.squaredNorm() > 1e-24;
 }
 
 /// Paper eq. (7)-(8): gamma within one group of three labels, scaled so that a uniform spread
-/// gives 1: gamma_k = min(1, 3 N_k / (N_1 + N_2 + N_3)); an empty group gives 0.
+/// gives 1: gamma_k = min(1, 3 N_k / (N_1 + N_2 + N_3)); an empty group gives 0. (With two
+/// rotation labels per correspondence a uniform spread still gives 3 (2/3) / 2 = 1.)
 void groupConfidence(const Vec6d& counts, int first, Vec6d& gamma) {
     const double total = counts.segment<3>(first).sum();
     for (int k = first; k < first + 3; ++k)
@@ -43,6 +52,7 @@ RiskReport computeAlignmentRisk(
     const size_t n = correspondences.size();
     r.translation_label.assign(n, kNoLabel);
     r.rotation_label.assign(n, kNoLabel);
+    r.rotation_label2.assign(n, kNoLabel);
     if (params.keep_jacobians) r.jacobians.assign(n, Vec6d::Zero());
 
     for (size_t i = 0; i < n; ++i) {
@@ -64,9 +74,16 @@ RiskReport computeAlignmentRisk(
         // A point on the line through the sensor along its normal has no lever arm: it
         // constrains no rotation and gets no rotation label.
         if (torque.squaredNorm() > 1e-24) {
-            const int rot = 3 + argmaxAbs(torque);
-            r.rotation_label[i] = static_cast<int8_t>(rot);
-            r.counts[rot] += w;
+            const int rot = argmaxAbs(torque);
+            r.rotation_label[i] = static_cast<int8_t>(3 + rot);
+            r.counts[3 + rot] += w;
+            // The torques of a surface with normal n span the plane orthogonal to n: its two
+            // rotation axes (released reference code: top-2 rotation labels).
+            const int rot2 = params.rotation_labels == 2 ? secondAbs(torque, rot) : -1;
+            if (rot2 >= 0) {
+                r.rotation_label2[i] = static_cast<int8_t>(3 + rot2);
+                r.counts[3 + rot2] += w;
+            }
         }
         r.used_by_type[static_cast<size_t>(c.type) % 3]++;
 

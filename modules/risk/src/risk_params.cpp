@@ -9,6 +9,7 @@ namespace superloc::risk {
 void RiskParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(degenerate_threshold, double, c, s);
     MRPT_LOAD_CONFIG_VAR(weighted_labels, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(rotation_labels, int, c, s);
     MRPT_LOAD_CONFIG_VAR(keep_jacobians, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(hessian_eigen, bool, c, s);
 }
@@ -18,6 +19,8 @@ void RiskParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::s
         degenerate_threshold, "[-] an axis with confidence gamma below this is degenerate (paper: 0.2)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         weighted_labels, "[bool] a label counts its correspondence's fit weight instead of 1");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(
+        rotation_labels, "[1|2] rotation labels per correspondence: 1 = largest torque axis, 2 = two largest");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         keep_jacobians, "[bool] keep the per-correspondence Jacobian rows in the report");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
@@ -30,6 +33,9 @@ void RiskParams::validate() const {
         throw ConfigError(
             "[risk] degenerate_threshold = " + std::to_string(degenerate_threshold) +
             " must be in [0, 1] (gamma is a ratio in [0, 1]; the paper uses 0.2)");
+    if (rotation_labels != 1 && rotation_labels != 2)
+        throw ConfigError(
+            "[risk] rotation_labels = " + std::to_string(rotation_labels) + " must be 1 or 2");
 }
 
 }  // namespace superloc::risk

@@ -37,6 +37,10 @@ struct Correspondence {
 struct RiskParams : public mrpt::config::CLoadableOptions {
     double degenerate_threshold = 0.2;  ///< [-] gamma_k below this flags axis k (paper: 0.2)
     bool weighted_labels = true;  ///< a label counts its correspondence's weight (else counts 1)
+    /// Rotation labels per correspondence: 1 = the axis of largest |(p x n) . e_k| (paper
+    /// Table I read literally); 2 = the two largest non-zero ones (the authors' released code):
+    /// the two rotation axes the correspondence's surface can constrain. See doc/method.md.
+    int rotation_labels = 2;
     bool keep_jacobians = false;  ///< fill RiskReport::jacobians (costs memory; off in the loop)
     bool hessian_eigen = true;    ///< compute the classic Hessian eigen-analysis for comparison
 
@@ -58,6 +62,9 @@ struct RiskReport {
     /// 3 (roll), 4 (pitch), 5 (yaw) — indices into the 6-vectors —, or kNoLabel.
     std::vector<int8_t> translation_label;
     std::vector<int8_t> rotation_label;
+    /// Second rotation label (3..5) when rotation_labels = 2 and that torque component is
+    /// non-zero, else kNoLabel.
+    std::vector<int8_t> rotation_label2;
     /// N_x .. N_yaw: number of labels per axis (sum of weights when weighted_labels).
     Vec6d counts = Vec6d::Zero();
     std::array<size_t, 3> used_by_type{};  ///< used correspondences by CorrespondenceType
