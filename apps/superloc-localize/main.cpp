@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 
 int main(int argc, char** argv) {
     using superloc::localization::LocalizeApp;
@@ -25,8 +26,15 @@ int main(int argc, char** argv) {
         if (bar) std::fprintf(stderr, "\n");
         return rc;
     } catch (const std::exception& e) {
-        std::string msg = mrpt::exception_to_str(e);
-        while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
+        // One line: the first line of the message (exception_to_str prefixes a banner line to
+        // non-MRPT exceptions and appends call stacks to MRPT ones).
+        std::istringstream lines(mrpt::exception_to_str(e));
+        std::string line, msg;
+        while (std::getline(lines, line))
+            if (!line.empty() && line.rfind("====", 0) != 0) {
+                msg = line;
+                break;
+            }
         std::cerr << "superloc-localize: error: " << msg << "\n";
         return 1;
     }
