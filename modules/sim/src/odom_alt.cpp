@@ -42,14 +42,14 @@ OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed) : p_(p
     sign_ = n01_(rng_) < 0 ? -1.0 : 1.0;
 }
 
-PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_lidar) {
+PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
     PoseStamped out;
     out.t = t;
     if (first_) {
         first_ = false;
         odom_ = SE3d::Identity();
     } else {
-        const SE3d dT = last_gt_.inverse() * T_map_lidar;
+        const SE3d dT = last_gt_.inverse() * T_map_imu;
         const double d = dT.translation().norm();
         const Vec3d phi = logSO3(dT.linear());
         const double a = phi.norm();
@@ -64,7 +64,7 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_lidar) {
         odom_ = orthonormalize(odom_ * dT * E);
     }
     ++count_;
-    last_gt_ = T_map_lidar;
+    last_gt_ = T_map_imu;
     // Reported uncertainty: the accumulated drift bound plus the accumulated white noise.
     const double st = p_.drift_per_m * dist_ + p_.trans_noise * std::sqrt(double(count_));
     const double sr =

@@ -122,7 +122,7 @@ SimSummary SimApp::run() {
             if (i_imu % 20 == 0) positions.push_back(last_pos);
             ++i_imu;
         } else if (t_odom <= t_scan) {
-            rawlog.writePose(odom.step(t_odom, traj.pose(t_odom) * T_imu_lidar), c.odom_alt.label);
+            rawlog.writePose(odom.step(t_odom, traj.pose(t_odom)), c.odom_alt.label);  // body (IMU) frame
             ++i_odom;
         } else {
             const Scan scan = simulateSweep(caster, world.mesh, traj, c.lidar, t_scan, lidar_rng);

@@ -1,9 +1,10 @@
 // A second, independent odometry (VIO- or wheel-like) with drift, for active fusion.
 //
-// Poses are T_odom_lidar: the LiDAR frame in the odometry's own frame, which starts at identity
-// at the first sample. Each increment dT between consecutive samples (from ground truth) is
+// Poses are T_odom_imu: the body (IMU) frame in the odometry's own frame, which starts at
+// identity at the first sample (as a VIO reports its IMU). Relative motions between two samples
+// are therefore T_imu(a)_imu(b), what the fusion's relative-pose prior takes. Each increment dT between consecutive samples (from ground truth) is
 // corrupted as  dT_noisy = dT * Exp([d_t; d_r]) with
-//   d_t = drift_per_m * |dt| * u  + trans_noise * n_t      (u: fixed unit vector, lidar frame)
+//   d_t = drift_per_m * |dt| * u  + trans_noise * n_t      (u: fixed unit vector, body frame)
 //   d_r = sign * drift_per_rad * dphi + rot_noise * n_r   (dphi: the increment's rotation vector)
 // so along a straight path the position error grows by drift_per_m metres per metre travelled
 // (u drawn from the seed), and turning about an axis over- or under-estimates the angle
@@ -36,8 +37,8 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
 class OdomAltSimulator {
    public:
     OdomAltSimulator(const OdomAltParams& p, uint64_t seed);
-    /// Next odometry pose from the true T_map_lidar at time t (call in time order).
-    PoseStamped step(double t, const SE3d& T_map_lidar);
+    /// Next odometry pose from the true T_map_imu at time t (call in time order).
+    PoseStamped step(double t, const SE3d& T_map_imu);
 
    private:
     OdomAltParams p_;
