@@ -167,7 +167,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     summary_.method = loc_.loc.method;
     summary_.map_points = prior->size();
     summary_.map_prepare_s = prior->prepareSeconds();
-    std::vector<double> ms, st[5];
+    std::vector<double> ms, cpu, st[5];
     Trajectory est, gt;
     io::RawlogItem item;
     static const std::vector<Vec3f> kNone;
@@ -182,6 +182,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 out.addFrame(r, T, run_.save_localized_map ? loc.lastMapPoints() : kNone);
                 est.push_back({r.t, T, {}});
                 ms.push_back(r.ms.total);
+                cpu.push_back(r.ms.total_cpu);
                 st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);
                 st[2].push_back(r.ms.associate), st[3].push_back(r.ms.risk), st[4].push_back(r.ms.solve);
                 summary_.frames++;
@@ -199,6 +200,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     if (summary_.frames == 0) throw std::runtime_error(run_.rawlog + ": no LiDAR scan in the rawlog");
     summary_.ms_median = percentile(ms, 0.5);
     summary_.ms_p95 = percentile(ms, 0.95);
+    summary_.cpu_ms_median = percentile(cpu, 0.5);
     double sum = 0;
     for (double v : ms) sum += v;
     summary_.ms_mean = sum / static_cast<double>(ms.size());

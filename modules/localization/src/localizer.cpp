@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 namespace superloc::localization {
 
@@ -15,6 +16,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+double threadCpuMs() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
 constexpr double kDeg = M_PI / 180.0;
 constexpr size_t kMinCorrespondences = 10;
@@ -298,6 +304,7 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, Fra
 
 FrameReport Localizer::process(const Scan& scan) {
     const auto t_start = Clock::now();
+    const double cpu_start = threadCpuMs();
     FrameReport rep;
     rep.index = frames_++;
     rep.t = scan.t;
@@ -354,6 +361,7 @@ FrameReport Localizer::process(const Scan& scan) {
                                        [](const ImuSample& s, double t) { return s.t < t; });
     imu_.erase(imu_.begin(), keep);
     rep.ms.total = msSince(t_start);
+    rep.ms.total_cpu = threadCpuMs() - cpu_start;
     return rep;
 }
 

@@ -18,6 +18,7 @@ struct StageTimes {
     double risk = 0;        ///< alignment-risk analysis of the first association
     double solve = 0;       ///< Ceres solves (or the NDT registration)
     double total = 0;       ///< whole process() call
+    double total_cpu = 0;   ///< CPU time of this thread in process() (robust to a busy machine)
 };
 
 struct FrameReport {

@@ -30,7 +30,8 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T);
 struct RunSummary {
     std::string method;
     size_t frames = 0, diverged = 0, converged = 0, used_imu = 0;
-    double ms_median = 0, ms_p95 = 0, ms_mean = 0, fps = 0;
+    double ms_median = 0, ms_p95 = 0, ms_mean = 0, fps = 0;  ///< wall time per frame
+    double cpu_ms_median = 0;  ///< thread CPU time per frame
     StageTimes stage_median;  ///< median per stage
     size_t map_points = 0;
     double map_prepare_s = 0;

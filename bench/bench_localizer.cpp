@@ -1,0 +1,142 @@
+// Speed of the Localizer (issue 4): single thread, kitti00-mini (HDL-64E, ~124k points per
+// scan), prior map from its own scans at the GT poses (0.2 m voxels). One benchmark iteration =
+// one frame through Localizer::process (prediction, features, association, risk, solve), the
+// 16 scans cycled; method=icp vs method=ndt in the same run. Custom counters give the median
+// and p95 per frame and the median per stage [ms]. Not a test: nothing here asserts timings.
+//   superloc-microbench-localizer [--benchmark_filter=Frame]
+// Data: $SUPERLOC_SHARED_DATA or ../shared/data next to the source tree.
+#include <benchmark/benchmark.h>
+#include <superloc/core/voxel.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/tum.h>
+#include <superloc/localization/localizer.h>
+#include <superloc/localization/run_outputs.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+
+using namespace superloc;
+using namespace superloc::localization;
+namespace fs = std::filesystem;
+
+namespace {
+struct KittiData {
+    std::vector<Scan> scans;
+    Trajectory gt;
+    std::shared_ptr<map::PriorMap> map;
+};
+
+const KittiData* kitti() {
+    static std::unique_ptr<KittiData> d;
+    static bool tried = false;
+    if (tried) return d.get();
+    tried = true;
+    const char* env = std::getenv("SUPERLOC_SHARED_DATA");
+    const fs::path root = env ? fs::path(env) : fs::path(__FILE__).parent_path() / "../../shared/data";
+    const fs::path dir = root / "kitti00-mini";
+    if (!fs::exists(dir / "gt_velodyne_tum.txt")) return nullptr;
+    auto out = std::make_unique<KittiData>();
+    out->gt = io::loadTum((dir / "gt_velodyne_tum.txt").string());
+    PointCloud all;
+    for (size_t i = 0; i < out->gt.size(); ++i) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "velodyne/%06zu.bin", i);
+        Scan s;
+        s.points = io::loadPointCloud((dir / name).string()).points;
+        s.t = out->gt[i].t;
+        for (const auto& p : s.points) all.points.push_back((out->gt[i].pose * p.cast<double>()).cast<float>());
+        out->scans.push_back(std::move(s));
+    }
+    map::MapParams mp;
+    mp.voxel_size = 0;  // voxelized here at 0.2 m, as superloc-map --voxel 0.2
+    out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.2f), mp);
+    d = std::move(out);
+    return d.get();
+}
+
+/// Settings of ini/localize-kitti.ini.
+LocalizerParams kittiParams(const std::string& method) {
+    LocalizerParams p;
+    p.loc.method = method;
+    p.features.min_range = 2.0;
+    p.features.max_range = 60.0;
+    p.features.deskew = false;
+    return p;
+}
+
+void BM_Frame(benchmark::State& state, const std::string& method) {
+    const KittiData* d = kitti();
+    if (!d) {
+        state.SkipWithError("kitti00-mini not found (set SUPERLOC_SHARED_DATA)");
+        return;
+    }
+    const LocalizerParams params = kittiParams(method);
+    std::unique_ptr<Localizer> loc;
+    size_t k = d->scans.size();
+    std::vector<double> total, cpu, stage[5];
+    for (auto _ : state) {
+        if (k == d->scans.size()) {
+            // Restart the sequence from the first GT pose (the first frame, with its wide
+            // initial search, is timed like any other).
+            state.PauseTiming();
+            loc = std::make_unique<Localizer>(params, d->map);
+            loc->setMinLoggingLevel(mrpt::system::LVL_ERROR);
+            loc->setInitialPose(d->gt.front().pose);
+            k = 0;
+            state.ResumeTiming();
+        }
+        const FrameReport r = loc->process(d->scans[k++]);
+        benchmark::DoNotOptimize(r.T_map_lidar);
+        total.push_back(r.ms.total);
+        cpu.push_back(r.ms.total_cpu);
+        stage[0].push_back(r.ms.preprocess), stage[1].push_back(r.ms.associate);
+        stage[2].push_back(r.ms.risk), stage[3].push_back(r.ms.solve), stage[4].push_back(r.ms.predict);
+    }
+    state.counters["median_ms"] = percentile(total, 0.5);
+    state.counters["p95_ms"] = percentile(total, 0.95);
+    state.counters["median_cpu_ms"] = percentile(cpu, 0.5);
+    state.counters["p95_cpu_ms"] = percentile(cpu, 0.95);
+    state.counters["preprocess_ms"] = percentile(stage[0], 0.5);
+    state.counters["associate_ms"] = percentile(stage[1], 0.5);
+    state.counters["risk_ms"] = percentile(stage[2], 0.5);
+    state.counters["solve_ms"] = percentile(stage[3], 0.5);
+    state.counters["predict_ms"] = percentile(stage[4], 0.5);
+    state.counters["fps"] = 1000.0 / std::max(1e-9, percentile(total, 0.5));
+}
+
+void BM_FrameIcp(benchmark::State& s) { BM_Frame(s, "icp"); }
+void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, "ndt"); }
+
+/// The association step alone: 2000 features of scan 5 at its GT pose.
+void BM_Association(benchmark::State& state) {
+    const KittiData* d = kitti();
+    if (!d) {
+        state.SkipWithError("kitti00-mini not found");
+        return;
+    }
+    std::vector<Vec3d> pts;
+    const auto& scan = d->scans[5];
+    for (uint32_t i : voxelDownsampleIndices(scan.points, 0.5f))
+        if (pts.size() < 2000 && scan.points[i].norm() > 2 && scan.points[i].norm() < 60)
+            pts.push_back(scan.points[i].cast<double>());
+    AssociationParams ap;
+    std::vector<fusion::ScanCorrespondence> corr;
+    AssociationStats st;
+    for (auto _ : state) {
+        associate(pts, d->gt[5].pose, *d->map, ap, corr, st);
+        benchmark::DoNotOptimize(corr.data());
+    }
+    state.counters["features"] = static_cast<double>(pts.size());
+    state.counters["per_query_us"] =
+        benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate |
+                                                                benchmark::Counter::kInvert);
+}
+}  // namespace
+
+BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
+BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
+BENCHMARK(BM_Association)->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
