@@ -111,7 +111,8 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
     features::SweepMotion motion;
-    if (fp.deskew && scan.rel_time.size() == scan.size() && !scan.empty()) {
+    if (fp.deskew && (pred.used_imu || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
+        !scan.empty()) {
         const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
         if (s_min < 0) {
             const Mat3d R_il = scan.T_imu_lidar.linear();

@@ -11,6 +11,9 @@ struct FeaturesParams : public mrpt::config::CLoadableOptions {
     double min_range = 1.0;     ///< [m] points closer to the sensor are dropped (robot body)
     double max_range = 100.0;   ///< [m] points farther are dropped
     bool deskew = true;         ///< undo the motion during the sweep (needs per-point time)
+    /// also deskew without IMU, with the constant-velocity twist of the last two estimates
+    /// (off: on the handheld office sequence it doubled the ATE, 0.14 vs 0.06 m)
+    bool deskew_without_imu = false;
     double voxel_size = 0.5;    ///< [m] one candidate point per voxel of this size
     int max_features = 2000;    ///< cap on features per scan, taken evenly over the candidates
     int map_points_stride = 1;  ///< keep every n-th candidate for the localized map output
