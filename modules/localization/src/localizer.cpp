@@ -76,11 +76,9 @@ Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
         pr.T_map_imu = nav.pose();
         pr.v = nav.v;
         pr.used_imu = true;
-        // Deskew twist: mean rate over the last sweep, velocity in the body frame.
-        Vec3d w = Vec3d::Zero();
-        int n = 0;
-        for (auto it = imu_.rbegin(); it != imu_.rend() && it->t >= t - 0.1; ++it, ++n) w += it->gyro;
-        pr.w_body = (n ? Vec3d(w / n) : Vec3d::Zero()) - prev_.bias().gyro;
+        // Deskew twist: mean rate over the interval since the last scan (one sweep at the
+        // sensor's rate), velocity in the body frame.
+        pr.w_body = logSO3(pre.correctedDeltaR(prev_.bias())) / pre.dt();
         pr.v_body = nav.R.transpose() * nav.v;
         return pr;
     }
@@ -361,6 +359,9 @@ FrameReport Localizer::process(const Scan& scan) {
     const auto keep = std::lower_bound(imu_.begin(), imu_.end(), scan.t - 1.0,
                                        [](const ImuSample& s, double t) { return s.t < t; });
     imu_.erase(imu_.begin(), keep);
+    const auto keep_odom = std::lower_bound(odom_alt_.begin(), odom_alt_.end(), scan.t - 2.0,
+                                            [](const PoseStamped& p, double t) { return p.t < t; });
+    odom_alt_.erase(odom_alt_.begin(), keep_odom);
     rep.ms.total = msSince(t_start);
     rep.ms.total_cpu = threadCpuMs() - cpu_start;
     return rep;
