@@ -164,8 +164,7 @@ std::optional<fusion::RelativePosePrior> Localizer::activePrior(const risk::Risk
     return std::nullopt;
 }
 
-void Localizer::solveIcp(const Prediction& pred, const imu::Preintegration* pre, bool first,
-                         FrameReport& rep) {
+void Localizer::solveIcp(const imu::Preintegration* pre, bool first, FrameReport& rep) {
     const auto& lp = params_.loc;
     const fusion::FrameState prev_saved = prev_;
     const bool wide = first || (!pre && !prev_prev_);
@@ -193,7 +192,7 @@ void Localizer::solveIcp(const Prediction& pred, const imu::Preintegration* pre,
             // Step 4: alignment risk at the predicted pose, before any optimisation (DESIGN §5).
             t0 = Clock::now();
             const auto risk = risk::computeAlignmentRisk(
-                riskInputs(T_before, Vec3d::Zero()), params_.risk);  // body origin = IMU
+                riskInputs(T_before, T_imu_lidar_.translation()), params_.risk);
             rep.gamma = risk.gamma;
             rep.degenerate = risk.degenerate;
             rep.degenerate_axes = risk::degenerateAxes(risk);
@@ -242,7 +241,6 @@ void Localizer::solveIcp(const Prediction& pred, const imu::Preintegration* pre,
         }
     }
     if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
-    (void)pred;
 }
 
 void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
@@ -287,8 +285,9 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, Fra
         rep.diverged = true;
         rep.diverged_reason = "jump";
     }
-    if (!pred.used_imu) {
-        // Without IMU the velocity is the finite difference of the estimates.
+    if (!pred.used_imu || method_ == Method::Ndt) {
+        // Without IMU (or with NDT, which has no IMU factor to correct it) the velocity is the
+        // finite difference of the estimates.
         const double dt = scan.t - prev_.t;
         cur_.setVelocity(have_prev_ && dt > 0 ? Vec3d((T.translation() - prev_.T_map_imu().translation()) / dt)
                                               : Vec3d::Zero());
@@ -308,6 +307,7 @@ FrameReport Localizer::process(const Scan& scan) {
     rep.index = frames_++;
     rep.t = scan.t;
     const bool first = !have_prev_;
+    T_imu_lidar_ = scan.T_imu_lidar;
 
     // Step 1: prediction.
     auto t0 = Clock::now();
@@ -347,7 +347,7 @@ FrameReport Localizer::process(const Scan& scan) {
     if (method_ == Method::Ndt) {
         solveNdt(scan.T_imu_lidar, rep);
     } else {
-        solveIcp(pred, pred.used_imu ? &pre : nullptr, first, rep);
+        solveIcp(pred.used_imu ? &pre : nullptr, first, rep);
     }
 
     // Step 6: report and state update.

@@ -75,8 +75,7 @@ class Localizer : public mrpt::system::COutputLogger {
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
-    void solveIcp(const Prediction& pred, const imu::Preintegration* pre, bool first,
-                  FrameReport& rep);
+    void solveIcp(const imu::Preintegration* pre, bool first, FrameReport& rep);
     void solveNdt(const SE3d& T_imu_lidar, FrameReport& rep);
     void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
     /// Issue 5 hook: the relative-pose prior for the current solve (none for icp / ndt).
@@ -94,6 +93,7 @@ class Localizer : public mrpt::system::COutputLogger {
     std::vector<ImuSample> imu_;
     Trajectory odom_alt_;
     std::optional<SE3d> initial_T_map_lidar_;
+    SE3d T_imu_lidar_ = SE3d::Identity();  ///< extrinsic of the scan being processed
     bool have_prev_ = false;
     fusion::FrameState prev_, cur_;
     std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
