@@ -74,7 +74,9 @@ void LidarParams::validate() const {
 }
 
 Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajectory& traj,
-                   const LidarParams& p, double t_end, std::mt19937_64& rng) {
+                   const LidarParams& p, double t_end, std::mt19937_64& rng,
+                   std::vector<Vec3f>* normals_map) {
+    if (normals_map) normals_map->clear();
     Scan scan;
     scan.t = t_end;
     scan.label = p.label;
@@ -119,6 +121,7 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
             scan.intensity.push_back(
                 static_cast<float>(255.0 * refl * cos_inc / (1.0 + (r / 50.0) * (r / 50.0))));
             scan.rel_time.push_back(static_cast<float>(rel));
+            if (normals_map) normals_map->push_back(h.normal.cast<float>());
         }
     }
     return scan;

@@ -107,6 +107,7 @@ SimSummary SimApp::run() {
     Trajectory gt;
     size_t i_imu = 0, i_odom = 0, i_scan = 0;
     std::vector<Vec3d> positions;
+    std::vector<Vec3f> normals;
     Vec3d last_pos = traj.pose(t0).translation();
     while (i_imu < n_imu || i_odom < n_odom || i_scan < n_scan) {
         const double t_imu = i_imu < n_imu ? t0 + i_imu / c.imu.rate_hz : 1e300;
@@ -125,7 +126,13 @@ SimSummary SimApp::run() {
             rawlog.writePose(odom.step(t_odom, traj.pose(t_odom)), c.odom_alt.label);  // body (IMU) frame
             ++i_odom;
         } else {
-            const Scan scan = simulateSweep(caster, world.mesh, traj, c.lidar, t_scan, lidar_rng);
+            const Scan scan =
+                simulateSweep(caster, world.mesh, traj, c.lidar, t_scan, lidar_rng, &normals);
+            for (const auto& n : normals) {
+                int k;
+                n.cwiseAbs().maxCoeff(&k);
+                ++sum.normal_axis[k];
+            }
             rawlog.writeScan(scan, c.lidar.label);
             PoseStamped g;
             g.t = t_scan;
@@ -183,6 +190,10 @@ SimSummary SimApp::run() {
         std::ofstream(out("config.ini")) << eff.ini.getContent();
     }
     if (on_progress) on_progress(1.0);
+    const double np = std::max<size_t>(1, sum.points);
+    MRPT_LOG_INFO_FMT("returns on surfaces facing x / y / z (map frame): %.1f / %.1f / %.1f %%",
+                      100 * sum.normal_axis[0] / np, 100 * sum.normal_axis[1] / np,
+                      100 * sum.normal_axis[2] / np);
     MRPT_LOG_INFO_STREAM("wrote " << out_dir_ << ": " << sum.scans << " sweeps (" << sum.points
                                   << " points), " << sum.imu << " IMU, " << sum.odom_alt
                                   << " odom_alt, gt_map " << sum.gt_map_points << " points, prior_map "

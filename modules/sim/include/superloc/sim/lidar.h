@@ -46,7 +46,9 @@ struct LidarParams : public mrpt::config::CLoadableOptions {
 };
 
 /// Simulates one sweep ending at t_end (Scan::t = t_end, rel_time filled, T_imu_lidar set).
+/// When `normals_map` is given it receives each point's surface normal (map frame).
 Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajectory& traj,
-                   const LidarParams& p, double t_end, std::mt19937_64& rng);
+                   const LidarParams& p, double t_end, std::mt19937_64& rng,
+                   std::vector<Vec3f>* normals_map = nullptr);
 
 }  // namespace superloc::sim

@@ -16,6 +16,7 @@
 #include <superloc/sim/trajectory.h>
 #include <superloc/sim/worlds.h>
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -54,6 +55,9 @@ struct SimSummary {
     double duration = 0;     ///< [s] simulated
     double path_length = 0;  ///< [m] travelled by the body
     double max_speed = 0, max_yaw_rate = 0;  ///< [m/s], [rad/s] of the trajectory
+    /// Returns by the dominant axis (x, y, z, map frame) of the surface normal they hit: a
+    /// crude picture of which directions the geometry constrains.
+    std::array<size_t, 3> normal_axis = {0, 0, 0};
 };
 
 class SimApp : public mrpt::system::COutputLogger {
