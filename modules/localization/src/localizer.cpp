@@ -159,6 +159,13 @@ std::vector<risk::Correspondence> Localizer::riskInputs(const SE3d& T, const Vec
     return out;
 }
 
+std::optional<SE3d> Localizer::odomAltDelta(double t0, double t1) const {
+    const auto a = interpolateAt(odom_alt_, t0, 0.5, 1e-3);
+    const auto b = interpolateAt(odom_alt_, t1, 0.5, 1e-3);
+    if (!a || !b) return std::nullopt;
+    return orthonormalize(a->inverse() * *b);
+}
+
 std::optional<fusion::RelativePosePrior> Localizer::activePrior(const risk::RiskReport&) const {
     // icp and ndt use no prior; superloc / passive / eigen_remap fill this in (issue 5).
     return std::nullopt;

@@ -78,6 +78,10 @@ class Localizer : public mrpt::system::COutputLogger {
     void solveIcp(const imu::Preintegration* pre, bool first, FrameReport& rep);
     void solveNdt(const SE3d& T_imu_lidar, FrameReport& rep);
     void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
+    /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
+    /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
+    /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
+    std::optional<SE3d> odomAltDelta(double t0, double t1) const;
     /// Issue 5 hook: the relative-pose prior for the current solve (none for icp / ndt).
     std::optional<fusion::RelativePosePrior> activePrior(const risk::RiskReport& risk) const;
     std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
