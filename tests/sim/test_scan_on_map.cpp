@@ -102,3 +102,27 @@ TEST(ScanOnMap, RawlogSweepMatchesSimulatorFiringTimes) {
         ASSERT_NEAR(s.rel_time[i], ref.rel_time[i], 2e-5) << "point " << i;
     }
 }
+
+// A platform box behind the sensor removes exactly the returns straight behind it.
+TEST(ScanOnMap, SelfOcclusionBoxHidesTheRear) {
+    SimConfig cfg = simtest::worldConfig(
+        "office", {"sim.duration=1", "lidar.self_min_x=0", "lidar.self_max_x=0"});  // no operator
+    const SimScene scene = makeScene(cfg);
+    const RayCaster caster(scene.world.mesh);
+    const auto behind = [](const Scan& s) {
+        size_t n = 0;
+        for (const auto& p : s.points)
+            if (p.x() < -0.3f && std::abs(p.y()) < 0.1f * -p.x() && std::abs(p.z()) < 0.1f * -p.x()) ++n;
+        return n;
+    };
+    std::mt19937_64 rng1(1), rng2(1);
+    const double t = cfg.sim.start_time + 0.5;
+    const Scan open = simulateSweep(caster, scene.world.mesh, scene.trajectory, cfg.lidar, t, rng1);
+    cfg.lidar.self_min_x = -1.0, cfg.lidar.self_max_x = -0.2;
+    cfg.lidar.self_min_y = -0.2, cfg.lidar.self_max_y = 0.2;
+    cfg.lidar.self_min_z = -1.0, cfg.lidar.self_max_z = 1.0;
+    const Scan blocked = simulateSweep(caster, scene.world.mesh, scene.trajectory, cfg.lidar, t, rng2);
+    EXPECT_GT(behind(open), 20u);
+    EXPECT_EQ(behind(blocked), 0u);
+    EXPECT_GT(blocked.size(), open.size() / 2);  // only a rear sector is lost
+}

@@ -33,6 +33,12 @@ void LidarParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
     MRPT_LOAD_CONFIG_VAR(ext_roll_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ext_pitch_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ext_yaw_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_min_x, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_min_y, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_min_z, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_max_x, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_max_y, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(self_max_z, double, c, s);
 }
 
 void LidarParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -56,6 +62,12 @@ void LidarParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_roll_deg, "[deg] LiDAR orientation in the IMU frame");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_pitch_deg, "[deg]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_yaw_deg, "[deg]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_x, "[m] platform body box in the LiDAR frame (self-occlusion)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_y, "[m] (disabled while any min >= max)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_z, "[m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_max_x, "[m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_max_y, "[m]");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_max_z, "[m]");
 }
 
 void LidarParams::validate() const {
@@ -72,6 +84,27 @@ void LidarParams::validate() const {
     need(dropout_rate >= 0 && dropout_rate < 1, "dropout_rate must be in [0, 1)");
     need(rotation_sense == 1 || rotation_sense == -1, "rotation_sense must be 1 or -1");
 }
+
+namespace {
+
+// Distance along unit ray d from the origin at which it enters box [lo, hi]; +inf if it misses.
+double rayBoxEntry(const Vec3d& d, const Vec3d& lo, const Vec3d& hi) {
+    double t0 = 0, t1 = 1e300;
+    for (int k = 0; k < 3; ++k) {
+        if (std::abs(d[k]) < 1e-12) {
+            if (lo[k] > 0 || hi[k] < 0) return 1e300;
+            continue;
+        }
+        double a = lo[k] / d[k], b = hi[k] / d[k];
+        if (a > b) std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+        if (t0 > t1) return 1e300;
+    }
+    return t0;
+}
+
+}  // namespace
 
 Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajectory& traj,
                    const LidarParams& p, double t_end, std::mt19937_64& rng,
@@ -91,6 +124,10 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
                                 : p.vfov_max_deg - (p.vfov_max_deg - p.vfov_min_deg) * b / (p.beams - 1)) *
                   d2r;
 
+    const Vec3d self_lo(p.self_min_x, p.self_min_y, p.self_min_z),
+        self_hi(p.self_max_x, p.self_max_y, p.self_max_z);
+    const bool self_box = (self_hi - self_lo).minCoeff() > 0;
+    std::vector<double> self_entry(p.beams, 1e300);
     std::normal_distribution<double> noise(0.0, 1.0);
     std::uniform_real_distribution<double> unif(0.0, 1.0);
     std::vector<Vec3d> dirs_lidar(p.beams), dirs_map(p.beams);
@@ -104,13 +141,14 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
             dirs_lidar[b] = Vec3d(std::cos(elev[b]) * std::cos(az), std::cos(elev[b]) * std::sin(az),
                                   std::sin(elev[b]));
             dirs_map[b] = T_map_lidar.linear() * dirs_lidar[b];
+            if (self_box) self_entry[b] = rayBoxEntry(dirs_lidar[b], self_lo, self_hi);
         }
         caster.castFan(T_map_lidar.translation(), dirs_map, 0.0, p.max_range * 1.5, hits);
         for (int b = 0; b < p.beams; ++b) {
             // Draw both random numbers for every ray, so one ray's fate never shifts the others.
             const double n = noise(rng), drop = unif(rng);
             const RayHit& h = hits[b];
-            if (!h.hit) continue;
+            if (!h.hit || self_entry[b] < h.range) continue;
             const double cos_inc = std::abs(h.normal.dot(dirs_map[b]));
             if (drop < p.dropout_rate || cos_inc < 0.02) continue;
             const double r = h.range + p.range_noise * n;

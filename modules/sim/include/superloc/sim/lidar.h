@@ -37,6 +37,10 @@ struct LidarParams : public mrpt::config::CLoadableOptions {
     // Pose of the LiDAR in the IMU (body) frame: T_imu_lidar = the observation's sensorPose.
     double ext_x = 0.0, ext_y = 0.0, ext_z = 0.1;            ///< [m]
     double ext_roll_deg = 0, ext_pitch_deg = 0, ext_yaw_deg = 0;  ///< [deg]
+    // The platform's own body as a box in the LiDAR frame: rays into it return nothing (drivers
+    // drop self-points). Disabled while any min >= max.
+    double self_min_x = 0, self_min_y = 0, self_min_z = 0;  ///< [m]
+    double self_max_x = 0, self_max_y = 0, self_max_z = 0;  ///< [m]
 
     double period() const { return 1.0 / rate_hz; }
     SE3d T_imu_lidar() const;
