@@ -148,3 +148,15 @@ TEST(Timing, HandComputedPercentiles) {
     EXPECT_NEAR(s.fps, 1000 / 10.5, 1e-9);
     EXPECT_EQ(timingStats({}).frames, 0u);
 }
+
+// An estimate far from GT in time matches nothing: no ATE, zero robustness, said in the summary.
+TEST(Metrics, NoMatchedFrames) {
+    const Trajectory gt = line(5);
+    Trajectory est = gt;
+    for (auto& p : est) p.t += 100;
+    const EvalResult r = evaluate(est, gt, EvalParams{});
+    EXPECT_EQ(r.matched_frames, 0u);
+    EXPECT_DOUBLE_EQ(r.rp.area, 0.0);
+    EXPECT_NE(summaryMarkdown(r).find("no estimate within the time tolerance"), std::string::npos);
+    EXPECT_DOUBLE_EQ(evaluate({}, gt, EvalParams{}).rr.area, 0.0);
+}

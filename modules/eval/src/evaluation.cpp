@@ -97,6 +97,11 @@ std::string summaryMarkdown(const EvalResult& r) {
     auto row = [&](const std::string& k, const std::string& v) { s += "| " + k + " | " + v + " |\n"; };
     row("frames (estimate / GT / matched)", std::to_string(r.est_frames) + " / " +
         std::to_string(r.gt_frames) + " / " + std::to_string(r.matched_frames));
+    if (r.matched_frames == 0) {
+        row("ATE, RPE", "– (no estimate within the time tolerance of a GT pose)");
+        row("Rp / Rr", "0.0000 / 0.0000");
+        return s;
+    }
     row(std::string("ATE trans RMSE / mean / max [m]") + (r.aligned ? " (SE(3)-aligned)" : ""),
         fmt("%.4f", r.ate.trans.rmse) + " / " + fmt("%.4f", r.ate.trans.mean) + " / " +
             fmt("%.4f", r.ate.trans.max));
