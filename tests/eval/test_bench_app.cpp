@@ -94,6 +94,8 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     EXPECT_NE(md.find("| good | **0.00** |"), std::string::npos) << md;
     EXPECT_NE(md.find("| stop | 0.00 † |"), std::string::npos) << md;
     EXPECT_NE(slurp(d + "/out/results.json").find("\"method\": \"lift\""), std::string::npos);
+    EXPECT_NE(md.find("![plane_good_top.svg](plane_good_top.svg)"), std::string::npos) << md;
+    EXPECT_NE(md.find("![plane_f1_rot.svg](plane_f1_rot.svg)"), std::string::npos) << md;
     for (const char* f : {"plane_good_top.svg", "plane_good_gamma.svg", "plane_f1_trans.svg", "plane_f1_rot.svg"})
         EXPECT_TRUE(fs::exists(d + "/out/" + f)) << f;
 

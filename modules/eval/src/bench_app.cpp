@@ -4,6 +4,7 @@
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -148,15 +149,21 @@ RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f, cons
         if (has_frames) frames = loadFrameLog((dir / "frames.csv").string());
         r.result = evaluate(est, gt, suite.eval, est_map.empty() ? nullptr : &est_map, &gt_map,
                             has_frames ? &frames : nullptr);
-        const std::string stem = (fs::path(out_dir) / (seq.name + "_" + method)).string();
-        writeTextFile(stem + "_top.svg", trajectoryTopViewSvg(gt, est, has_frames ? minTranslationGamma(est, frames, suite.eval.assoc_tolerance) : std::vector<double>{},
-                                                             seq.name + " / " + method + " (top view)"));
+        const std::string stem = seq.name + "_" + method;
+        const std::vector<double> g =
+            has_frames ? minTranslationGamma(est, frames, suite.eval.assoc_tolerance) : std::vector<double>{};
+        writePlot(stem + "_top.svg", trajectoryTopViewSvg(gt, est, g, seq.name + " / " + method + " (top view)"));
         if (has_frames && frames.has_gamma)
-            writeTextFile(stem + "_gamma.svg", gammaTimelineSvg(frames, 0.2, seq.name + " / " + method + ": γ"));
+            writePlot(stem + "_gamma.svg", gammaTimelineSvg(frames, 0.2, seq.name + " / " + method + ": γ"));
     } catch (const std::exception& e) {
         r.status = (r.status == "ok" ? "" : r.status + "; ") + "evaluation failed: " + std::string(e.what()).substr(0, 200);
     }
     return r;
+}
+
+void BenchApp::writePlot(const std::string& name, const std::string& svg) {
+    writeTextFile((fs::path(out_dir) / name).string(), svg);
+    if (std::find(plots.begin(), plots.end(), name) == plots.end()) plots.push_back(name);
 }
 
 void BenchApp::writeResults() const {
@@ -166,7 +173,7 @@ void BenchApp::writeResults() const {
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
     const std::string preamble = "Produced by `" + command_line_ + "` on " + date + ".\n";
-    writeTextFile((fs::path(out_dir) / "results.md").string(), resultsMarkdown(runs, seqs, meths, preamble));
+    writeTextFile((fs::path(out_dir) / "results.md").string(), resultsMarkdown(runs, seqs, meths, preamble, plots));
     writeTextFile((fs::path(out_dir) / "results.json").string(), resultsJson(runs, suite.path));
 }
 
@@ -177,6 +184,7 @@ int BenchApp::run(std::ostream& log) {
     }
     fs::create_directories(fs::path(out_dir) / "logs");
     runs.clear();
+    plots.clear();
     for (const auto& seq : suite.sequences) {
         const SequenceFiles f = sequenceFiles(seq, out_dir);
         fs::create_directories(f.dir);
@@ -217,9 +225,9 @@ int BenchApp::run(std::ostream& log) {
             writeResults();
         }
         if (!rp.empty()) {
-            const std::string stem = (fs::path(out_dir) / seq.name).string();
-            writeTextFile(stem + "_f1_trans.svg", f1CurvesSvg(rp, false, seq.name + ": F1 (translation RPE)"));
-            writeTextFile(stem + "_f1_rot.svg", f1CurvesSvg(rr, true, seq.name + ": F1 (rotation RPE)"));
+            writePlot(seq.name + "_f1_trans.svg", f1CurvesSvg(rp, false, seq.name + ": F1 (translation RPE)"));
+            writePlot(seq.name + "_f1_rot.svg", f1CurvesSvg(rr, true, seq.name + ": F1 (rotation RPE)"));
+            writeResults();
         }
     }
     writeResults();

@@ -71,7 +71,8 @@ double pathLength(const Trajectory& traj) {
 
 std::string resultsMarkdown(const std::vector<RunRecord>& runs,
                             const std::vector<std::string>& sequences,
-                            const std::vector<std::string>& methods, const std::string& preamble) {
+                            const std::vector<std::string>& methods, const std::string& preamble,
+                            const std::vector<std::string>& plots) {
     double thr = 0.10;
     for (const auto& r : runs)
         if (r.result && r.result->map) thr = r.result->map->threshold;
@@ -121,6 +122,11 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
         md += "| " + r.sequence + " | " + r.method + " | " + r.status + " | " +
               (r.result ? std::to_string(r.result->est_frames) + "/" + std::to_string(r.result->gt_frames) : "–") +
               " | " + fmt("%.1f", r.wall_s) + " | " + fmt("%.0f", r.peak_rss_mb) + " |\n";
+    if (!plots.empty()) {
+        md += "\n## Plots\n\nTop views: GT grey, estimate coloured by min(γ_x, γ_y, γ_z) (red 0 → green 1). "
+              "γ timelines: threshold dashed, frames flagged degenerate shaded. F1(τ) curves of all methods.\n\n";
+        for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
+    }
     return md;
 }
 

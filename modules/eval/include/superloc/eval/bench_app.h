@@ -29,6 +29,7 @@ class BenchApp {
     std::string out_dir, data_dir, tools_dir;
     bool fresh = false, help = false;
     std::vector<RunRecord> runs;  ///< filled by run()
+    std::vector<std::string> plots;  ///< SVG files written (relative to out_dir)
 
    private:
     /// Simulates or imports + maps a sequence unless its files exist; "" or the failure.
@@ -37,6 +38,8 @@ class BenchApp {
                      const Trajectory& gt, const PointCloud& gt_map, std::ostream& log);
     std::string tool(const std::string& name) const;
     void writeResults() const;
+    /// Writes DIR/name and remembers it for results.md.
+    void writePlot(const std::string& name, const std::string& svg);
     std::string command_line_;
 };
 

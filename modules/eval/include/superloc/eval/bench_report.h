@@ -21,10 +21,12 @@ struct RunRecord {
 
 /// results.md: one table per metric (rows = methods, columns = sequences, like the paper's
 /// Table I), best value per column in bold, and a status list of runs that did not finish.
-/// `preamble` (command, commit, date) is written under the title.
+/// `preamble` (command, commit, date) is written under the title; `plots` (file names relative
+/// to results.md) are embedded as images at the end.
 std::string resultsMarkdown(const std::vector<RunRecord>& runs,
                             const std::vector<std::string>& sequences,
-                            const std::vector<std::string>& methods, const std::string& preamble);
+                            const std::vector<std::string>& methods, const std::string& preamble,
+                            const std::vector<std::string>& plots = {});
 
 /// results.json: {"runs": [...]} with every metric (no curves) per run.
 std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path);
