@@ -111,10 +111,15 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     run_ = loadParams<RunParams>(cfg_, "run", src);
     // INI paths are relative to the INI's folder; flags to the working directory.
     const fs::path ini_dir = fs::path(config_path_).parent_path();
-    const auto rel = [&](std::string& p) {
-        if (!p.empty() && fs::path(p).is_relative()) p = (ini_dir / p).lexically_normal().string();
+    const auto rel = [&](std::string& p, const char* key) {
+        const bool from_ini = !stripIniValue(cfg_.read_string("run", key, "")).empty();
+        if (from_ini && !p.empty() && fs::path(p).is_relative())
+            p = (ini_dir / p).lexically_normal().string();
     };
-    for (std::string* p : {&run_.rawlog, &run_.map, &run_.out, &run_.initial_pose_tum}) rel(*p);
+    rel(run_.rawlog, "rawlog");
+    rel(run_.map, "map");
+    rel(run_.out, "out");
+    rel(run_.initial_pose_tum, "initial_pose_tum");
     if (!rawlog.empty()) run_.rawlog = rawlog;
     if (!map.empty()) run_.map = map;
     if (!out.empty()) run_.out = out;
