@@ -13,8 +13,13 @@ TEST(SimConfig, EveryCommittedWorldLoadsWithItsPreset) {
         SCOPED_TRACE(w);
         const SimConfig c = loadSimConfig(superloc::testing::sourcePath("ini/sim/" + w + ".ini"), {});
         EXPECT_EQ(c.sim.world, w);
-        EXPECT_EQ(c.lidar.beams, 64);  // OS1-64-like preset
-        EXPECT_EQ(c.lidar.columns, 1024);
+        if (w == "multifloor") {  // the legged robot's VLP-16
+            EXPECT_EQ(c.lidar.beams, 16);
+            EXPECT_EQ(c.lidar.columns, 1800);
+        } else {  // OS1-64-like
+            EXPECT_EQ(c.lidar.beams, 64);
+            EXPECT_EQ(c.lidar.columns, 1024);
+        }
         EXPECT_GE(c.sim.duration, 60.0);
     }
 }
