@@ -190,6 +190,8 @@ SimSummary SimApp::run() {
         std::ofstream(out("config.ini")) << eff.ini.getContent();
     }
     if (on_progress) on_progress(1.0);
+    MRPT_LOG_INFO_FMT("travelled %.1f m in %.1f s, max %.2f m/s and %.1f deg/s yaw rate", sum.path_length,
+                      sum.duration, sum.max_speed, sum.max_yaw_rate * 180 / M_PI);
     const double np = std::max<size_t>(1, sum.points);
     MRPT_LOG_INFO_FMT("returns on surfaces facing x / y / z (map frame): %.1f / %.1f / %.1f %%",
                       100 * sum.normal_axis[0] / np, 100 * sum.normal_axis[1] / np,
