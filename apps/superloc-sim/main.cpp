@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <sstream>
 
 int main(int argc, char** argv) {
     try {
@@ -15,16 +16,22 @@ int main(int argc, char** argv) {
         }
         if (isatty(STDERR_FILENO))
             app.on_progress = [](double f) {
-                std::cerr << "\r" << mrpt::system::progress(f, 40) << ' ' << static_cast<int>(100 * f)
-                          << " %" << (f >= 1.0 ? "\n" : "") << std::flush;
+                std::cerr << "\r" << mrpt::system::progress(f, 40) << ' '
+                          << static_cast<int>(100 * f) << " %" << (f >= 1.0 ? "\n" : "")
+                          << std::flush;
             };
         app.run();
         return 0;
     } catch (const std::exception& e) {
-        std::string msg = mrpt::exception_to_str(e);
-        // One line: MRPT exceptions carry a call stack after the first line.
-        msg = msg.substr(0, msg.find('\n'));
-        std::cerr << "superloc-sim: " << msg << "\n";
+        // One line: the first line of the message that is not an MRPT banner or call stack.
+        std::istringstream lines(mrpt::exception_to_str(e));
+        std::string line, msg;
+        while (std::getline(lines, line))
+            if (!line.empty() && line.rfind("====", 0) != 0) {
+                msg = line;
+                break;
+            }
+        std::cerr << "superloc-sim: " << (msg.empty() ? std::string(e.what()) : msg) << "\n";
         return 1;
     }
 }

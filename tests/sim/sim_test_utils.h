@@ -25,7 +25,7 @@ inline SimConfig worldConfig(const std::string& world, std::vector<std::string> 
 
 /// Distance from query points to the nearest point of a cloud (hash grid, exact within `cell`).
 class NearestDistance {
-   public:
+ public:
     NearestDistance(const std::vector<Vec3f>& pts, double cell) : pts_(pts), cell_(cell) {
         for (uint32_t i = 0; i < pts_.size(); ++i) grid_[key(pts_[i])].push_back(i);
     }
@@ -38,19 +38,21 @@ class NearestDistance {
                 for (int dz = -1; dz <= 1; ++dz) {
                     const auto it = grid_.find(pack(k[0] + dx, k[1] + dy, k[2] + dz));
                     if (it == grid_.end()) continue;
-                    for (uint32_t i : it->second) best = std::min<double>(best, (pts_[i] - q).squaredNorm());
+                    for (uint32_t i : it->second)
+                        best = std::min<double>(best, (pts_[i] - q).squaredNorm());
                 }
         return std::sqrt(best);
     }
 
-   private:
+ private:
     std::array<int64_t, 3> cellOf(const Vec3f& p) const {
-        return {static_cast<int64_t>(std::floor(p.x() / cell_)), static_cast<int64_t>(std::floor(p.y() / cell_)),
+        return {static_cast<int64_t>(std::floor(p.x() / cell_)),
+                static_cast<int64_t>(std::floor(p.y() / cell_)),
                 static_cast<int64_t>(std::floor(p.z() / cell_))};
     }
     static uint64_t pack(int64_t x, int64_t y, int64_t z) {
-        return (static_cast<uint64_t>(x + (1 << 20)) << 42) ^ (static_cast<uint64_t>(y + (1 << 20)) << 21) ^
-               static_cast<uint64_t>(z + (1 << 20));
+        return (static_cast<uint64_t>(x + (1 << 20)) << 42) ^
+               (static_cast<uint64_t>(y + (1 << 20)) << 21) ^ static_cast<uint64_t>(z + (1 << 20));
     }
     uint64_t key(const Vec3f& p) const {
         const auto k = cellOf(p);

@@ -11,7 +11,8 @@ using namespace superloc::sim;
 TEST(SimConfig, EveryCommittedWorldLoadsWithItsPreset) {
     for (const auto& w : worldNames()) {
         SCOPED_TRACE(w);
-        const SimConfig c = loadSimConfig(superloc::testing::sourcePath("ini/sim/" + w + ".ini"), {});
+        const SimConfig c =
+            loadSimConfig(superloc::testing::sourcePath("ini/sim/" + w + ".ini"), {});
         EXPECT_EQ(c.sim.world, w);
         if (w == "multifloor") {  // the legged robot's VLP-16
             EXPECT_EQ(c.lidar.beams, 16);
@@ -25,7 +26,8 @@ TEST(SimConfig, EveryCommittedWorldLoadsWithItsPreset) {
 }
 
 TEST(SimConfig, FileKeysOverridePresetAndSetOverridesFile) {
-    const SimConfig c = simtest::worldConfig("corridor", {"lidar.preset=../sensors/vlp16.ini", "lidar.ext_z=0.4"}, false);
+    const SimConfig c = simtest::worldConfig(
+        "corridor", {"lidar.preset=../sensors/vlp16.ini", "lidar.ext_z=0.4"}, false);
     EXPECT_EQ(c.lidar.model, "vlp16");
     EXPECT_EQ(c.lidar.beams, 16);
     EXPECT_DOUBLE_EQ(c.lidar.ext_z, 0.4);
@@ -61,7 +63,8 @@ TEST(SimApp, CommandLine) {
     const char* help[] = {"superloc-sim", "--help"};
     EXPECT_FALSE(app.initialize(2, help));
     const std::string ini = superloc::testing::sourcePath("ini/sim/office.ini");
-    const char* ok[] = {"superloc-sim", ini.c_str(), "--out", "/tmp/x", "--seed", "42", "--set", "sim.duration=3"};
+    const char* ok[] = {"superloc-sim", ini.c_str(), "--out", "/tmp/x",
+                        "--seed",       "42",        "--set", "sim.duration=3"};
     EXPECT_TRUE(app.initialize(8, ok));
     EXPECT_EQ(app.config().sim.seed, 42u);
     EXPECT_DOUBLE_EQ(app.config().sim.duration, 3.0);

@@ -8,7 +8,8 @@ namespace {
 
 void generate(const std::string& dir, uint64_t seed) {
     const SimConfig cfg = simtest::worldConfig(
-        "cave", {"sim.duration=1.5", "sim.gt_map_spacing=0.05", "sim.seed=" + std::to_string(seed)});
+        "cave",
+        {"sim.duration=1.5", "sim.gt_map_spacing=0.05", "sim.seed=" + std::to_string(seed)});
     SimApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
     app.initialize(cfg, dir);
@@ -18,19 +19,21 @@ void generate(const std::string& dir, uint64_t seed) {
 }  // namespace
 
 TEST(Determinism, SameSeedByteIdenticalOutputs) {
-    const std::string a = superloc::testing::freshDir("sim_det_a"), b = superloc::testing::freshDir("sim_det_b"),
+    const std::string a = superloc::testing::freshDir("sim_det_a"),
+                      b = superloc::testing::freshDir("sim_det_b"),
                       c = superloc::testing::freshDir("sim_det_c");
     generate(a, 5);
     generate(b, 5);
     generate(c, 6);
-    for (const char* f : {"sequence.rawlog", "gt_tum.txt", "gt_map.ply", "prior_map.pcd", "topview.svg",
-                          "config.ini"}) {
+    for (const char* f : {"sequence.rawlog", "gt_tum.txt", "gt_map.ply", "prior_map.pcd",
+                          "topview.svg", "config.ini"}) {
         SCOPED_TRACE(f);
         const std::string fa = simtest::readFile(a + "/" + f), fb = simtest::readFile(b + "/" + f);
         ASSERT_GT(fa.size(), 100u);
         EXPECT_TRUE(fa == fb);
     }
     // Another seed: another cave, other noise.
-    EXPECT_FALSE(simtest::readFile(a + "/sequence.rawlog") == simtest::readFile(c + "/sequence.rawlog"));
+    EXPECT_FALSE(simtest::readFile(a + "/sequence.rawlog") ==
+                 simtest::readFile(c + "/sequence.rawlog"));
     EXPECT_FALSE(simtest::readFile(a + "/gt_map.ply") == simtest::readFile(c + "/gt_map.ply"));
 }

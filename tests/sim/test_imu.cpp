@@ -42,10 +42,13 @@ TEST(Imu, NoiseFreeIntegrationFollowsGroundTruthInEveryWorld) {
         // From rest at the start, and from a moving state 25 s in.
         for (const double start : {tr.startTime(), tr.startTime() + 25.0}) {
             std::vector<ImuSample> m;
-            for (int k = 0; k <= 2000; ++k) m.push_back(ImuSimulator::ideal(tr.at(start + k / 200.0), 9.81));
+            for (int k = 0; k <= 2000; ++k)
+                m.push_back(ImuSimulator::ideal(tr.at(start + k / 200.0), 9.81));
             const BodyState s0 = tr.at(start), s1 = tr.at(start + 10.0);
-            const NavState end = integrate({s0.T_map_body.linear(), s0.T_map_body.translation(), s0.vel}, m, 9.81);
-            EXPECT_LT((end.p - s1.T_map_body.translation()).norm(), 0.05) << "start " << start - tr.startTime();
+            const NavState end =
+                integrate({s0.T_map_body.linear(), s0.T_map_body.translation(), s0.vel}, m, 9.81);
+            EXPECT_LT((end.p - s1.T_map_body.translation()).norm(), 0.05)
+                << "start " << start - tr.startTime();
             EXPECT_LT(logSO3(end.R.transpose() * s1.T_map_body.linear()).norm(), 0.2 * M_PI / 180);
         }
     }
@@ -54,9 +57,10 @@ TEST(Imu, NoiseFreeIntegrationFollowsGroundTruthInEveryWorld) {
 TEST(Imu, NoiseFreeRawlogIntegratesToGtTum) {
     const std::string dir = superloc::testing::freshDir("sim_imu_rawlog");
     SimConfig cfg = simtest::worldConfig(
-        "cave", {"sim.duration=10.5", "sim.gt_map_spacing=0.2", "lidar.beams=2", "lidar.columns=32",
-                 "imu.acc_noise_density=0", "imu.gyro_noise_density=0", "imu.acc_bias_rw=0",
-                 "imu.gyro_bias_rw=0", "imu.acc_bias_init=0", "imu.gyro_bias_init=0"},
+        "cave",
+        {"sim.duration=10.5", "sim.gt_map_spacing=0.2", "lidar.beams=2", "lidar.columns=32",
+         "imu.acc_noise_density=0", "imu.gyro_noise_density=0", "imu.acc_bias_rw=0",
+         "imu.gyro_bias_rw=0", "imu.acc_bias_init=0", "imu.gyro_bias_init=0"},
         false);
     SimApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
@@ -79,7 +83,8 @@ TEST(Imu, NoiseFreeRawlogIntegratesToGtTum) {
     const SimScene scene = makeScene(cfg);
     const BodyState s0 = scene.trajectory.at(m.front().t);
     m.resize(2001);  // 10 s
-    const NavState end = integrate({s0.T_map_body.linear(), s0.T_map_body.translation(), s0.vel}, m, cfg.imu.gravity);
+    const NavState end = integrate({s0.T_map_body.linear(), s0.T_map_body.translation(), s0.vel}, m,
+                                   cfg.imu.gravity);
     const auto gt_end = interpolateAt(gt, m.back().t);
     ASSERT_TRUE(gt_end.has_value());
     SE3d T_map_imu = SE3d::Identity();

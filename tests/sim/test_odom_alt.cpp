@@ -80,7 +80,8 @@ TEST(OdomAlt, FirstPoseIsTheOdometryOriginAndCovarianceGrows) {
     const PoseStamped first = sim.step(tr.startTime(), tr.pose(tr.startTime()));
     EXPECT_TRUE(first.pose.isApprox(SE3d::Identity()));
     PoseStamped last;
-    for (double t = tr.startTime() + 0.05; t < tr.endTime(); t += 0.05) last = sim.step(t, tr.pose(t));
+    for (double t = tr.startTime() + 0.05; t < tr.endTime(); t += 0.05)
+        last = sim.step(t, tr.pose(t));
     ASSERT_TRUE(first.cov && last.cov);
     EXPECT_GT((*last.cov)(0, 0), 100 * (*first.cov)(0, 0));
 }
@@ -90,7 +91,8 @@ TEST(OdomAlt, FirstPoseIsTheOdometryOriginAndCovarianceGrows) {
 TEST(OdomAlt, RawlogOdometryFollowsBodyMotion) {
     const std::string dir = superloc::testing::freshDir("sim_odom_rawlog");
     const SimConfig cfg = simtest::worldConfig(
-        "office", {"sim.duration=12", "sim.gt_map_spacing=0.3", "lidar.beams=2", "lidar.columns=32"}, false);
+        "office",
+        {"sim.duration=12", "sim.gt_map_spacing=0.3", "lidar.beams=2", "lidar.columns=32"}, false);
     SimApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
     app.initialize(cfg, dir);
@@ -105,10 +107,13 @@ TEST(OdomAlt, RawlogOdometryFollowsBodyMotion) {
     EXPECT_TRUE(od.front().pose.isApprox(SE3d::Identity(), 1e-6));
     double dist = 0;
     for (size_t i = 1; i < od.size(); ++i)
-        dist += translationDistance(scene.trajectory.pose(od[i - 1].t), scene.trajectory.pose(od[i].t));
-    const SE3d d_gt = scene.trajectory.pose(od.front().t).inverse() * scene.trajectory.pose(od.back().t);
+        dist +=
+            translationDistance(scene.trajectory.pose(od[i - 1].t), scene.trajectory.pose(od[i].t));
+    const SE3d d_gt =
+        scene.trajectory.pose(od.front().t).inverse() * scene.trajectory.pose(od.back().t);
     const SE3d d_od = od.front().pose.inverse() * od.back().pose;
     ASSERT_GT(dist, 5.0);
-    EXPECT_LT((d_gt.translation() - d_od.translation()).norm(), 1.5 * cfg.odom_alt.drift_per_m * dist + 0.01);
+    EXPECT_LT((d_gt.translation() - d_od.translation()).norm(),
+              1.5 * cfg.odom_alt.drift_per_m * dist + 0.01);
     EXPECT_GT((d_gt.translation() - d_od.translation()).norm(), 0.0);  // it does drift
 }

@@ -31,8 +31,8 @@ TEST(RawlogInfo, EveryWorldPassesRawlogEdit) {
         SCOPED_TRACE(w);
         const std::string dir = superloc::testing::freshDir("sim_rawlog_info_" + w);
         const SimConfig cfg = simtest::worldConfig(
-            w, {"sim.duration=1", "sim.gt_map_spacing=0.3", "sim.prior_map_voxel=0.3", "lidar.beams=8",
-                "lidar.columns=128"});
+            w, {"sim.duration=1", "sim.gt_map_spacing=0.3", "sim.prior_map_voxel=0.3",
+                "lidar.beams=8", "lidar.columns=128"});
         SimApp app;
         app.setMinLoggingLevel(mrpt::system::LVL_WARN);
         app.initialize(cfg, dir);
@@ -40,10 +40,12 @@ TEST(RawlogInfo, EveryWorldPassesRawlogEdit) {
         EXPECT_EQ(sum.scans, 10u);
         EXPECT_EQ(sum.imu, 201u);
         int rc = 0;
-        const std::string out = runCapture("rawlog-edit --info -i '" + dir + "/sequence.rawlog' 2>&1", rc);
+        const std::string out =
+            runCapture("rawlog-edit --info -i '" + dir + "/sequence.rawlog' 2>&1", rc);
         EXPECT_EQ(rc, 0) << out;
         for (const char* label : {"lidar", "imu", "odom_alt", "gt"})
-            EXPECT_NE(out.find(std::string(label) + " /"), std::string::npos) << label << "\n" << out;
+            EXPECT_NE(out.find(std::string(label) + " /"), std::string::npos) << label << "\n"
+                                                                              << out;
         EXPECT_NE(out.find("Observations format               : Yes"), std::string::npos) << out;
     }
 }

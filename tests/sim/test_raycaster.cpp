@@ -1,5 +1,5 @@
-#include <superloc/sim/raycaster.h>
 #include <gtest/gtest.h>
+#include <superloc/sim/raycaster.h>
 
 using namespace superloc;
 using namespace superloc::sim;

@@ -52,7 +52,8 @@ void checkScansOnMap(const std::string& world, const std::vector<std::string>& s
     EXPECT_GT(med, 0.2 * cfg.lidar.range_noise) << "range noise seems missing";
     // One pose per sweep is visibly worse on the structure around (most points lie on planes
     // parallel to the motion, which hide it): the motion distortion is real.
-    const double p95 = simtest::quantile(d_deskewed, 0.95), p95_end = simtest::quantile(d_end_pose, 0.95);
+    const double p95 = simtest::quantile(d_deskewed, 0.95),
+                 p95_end = simtest::quantile(d_end_pose, 0.95);
     EXPECT_LT(p95, 4 * cfg.lidar.range_noise);
     if (expect_distortion) {
         EXPECT_GT(p95_end, 2 * p95) << "p95 deskewed " << p95 << ", end-of-sweep pose " << p95_end;
@@ -78,7 +79,8 @@ TEST(ScanOnMap, CaveHandheld) { checkScansOnMap("cave", {"sim.duration=2"}); }
 // reader derives from azimuth equal the simulator's own per-point times.
 TEST(ScanOnMap, RawlogSweepMatchesSimulatorFiringTimes) {
     const std::string dir = superloc::testing::freshDir("sim_firing_times");
-    const SimConfig cfg = simtest::worldConfig("office", {"sim.duration=0.35", "sim.gt_map_spacing=0.2"});
+    const SimConfig cfg =
+        simtest::worldConfig("office", {"sim.duration=0.35", "sim.gt_map_spacing=0.2"});
     SimApp app;
     app.setMinLoggingLevel(mrpt::system::LVL_WARN);
     app.initialize(cfg, dir);
@@ -112,7 +114,8 @@ TEST(ScanOnMap, SelfOcclusionBoxHidesTheRear) {
     const auto behind = [](const Scan& s) {
         size_t n = 0;
         for (const auto& p : s.points)
-            if (p.x() < -0.3f && std::abs(p.y()) < 0.1f * -p.x() && std::abs(p.z()) < 0.1f * -p.x()) ++n;
+            if (p.x() < -0.3f && std::abs(p.y()) < 0.1f * -p.x() && std::abs(p.z()) < 0.1f * -p.x())
+                ++n;
         return n;
     };
     std::mt19937_64 rng1(1), rng2(1);
@@ -121,7 +124,8 @@ TEST(ScanOnMap, SelfOcclusionBoxHidesTheRear) {
     cfg.lidar.self_min_x = -1.0, cfg.lidar.self_max_x = -0.2;
     cfg.lidar.self_min_y = -0.2, cfg.lidar.self_max_y = 0.2;
     cfg.lidar.self_min_z = -1.0, cfg.lidar.self_max_z = 1.0;
-    const Scan blocked = simulateSweep(caster, scene.world.mesh, scene.trajectory, cfg.lidar, t, rng2);
+    const Scan blocked =
+        simulateSweep(caster, scene.world.mesh, scene.trajectory, cfg.lidar, t, rng2);
     EXPECT_GT(behind(open), 20u);
     EXPECT_EQ(behind(blocked), 0u);
     EXPECT_GT(blocked.size(), open.size() / 2);  // only a rear sector is lost

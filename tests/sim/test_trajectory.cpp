@@ -17,7 +17,8 @@ void checkDerivatives(const SmoothTrajectory& tr) {
         const Vec3d a_fd = (b.vel - a.vel) / (2 * h);
         EXPECT_LT((v_fd - s.vel).norm(), 1e-3 * (1 + s.vel.norm())) << "t=" << t;
         EXPECT_LT((a_fd - s.acc).norm(), 1e-2 * (1 + s.acc.norm())) << "t=" << t;
-        const Vec3d w_fd = logSO3(a.T_map_body.linear().transpose() * b.T_map_body.linear()) / (2 * h);
+        const Vec3d w_fd =
+            logSO3(a.T_map_body.linear().transpose() * b.T_map_body.linear()) / (2 * h);
         EXPECT_LT((w_fd - s.omega_body).norm(), 1e-3 * (1 + s.omega_body.norm())) << "t=" << t;
     }
 }
@@ -71,6 +72,7 @@ TEST(Trajectory, CorridorIsLongAndNarrow) {
 TEST(Trajectory, MultifloorClimbsTwoStoreys) {
     const SimScene scene = makeScene(simtest::worldConfig("multifloor"));
     const auto& tr = scene.trajectory;
-    const double z0 = tr.pose(tr.startTime()).translation().z(), z1 = tr.pose(tr.endTime()).translation().z();
+    const double z0 = tr.pose(tr.startTime()).translation().z(),
+                 z1 = tr.pose(tr.endTime()).translation().z();
     EXPECT_NEAR(z1 - z0, 6.0, 0.1);
 }

@@ -31,10 +31,11 @@ void ImuParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
 }
 
 void ImuParams::validate() const {
-    if (!(rate_hz >= 10 && rate_hz <= 2000)) throw ConfigError("[imu] rate_hz must be in [10, 2000]");
+    if (!(rate_hz >= 10 && rate_hz <= 2000))
+        throw ConfigError("[imu] rate_hz must be in [10, 2000]");
     if (!(gravity >= 0)) throw ConfigError("[imu] gravity must be >= 0");
-    for (double v : {acc_noise_density, gyro_noise_density, acc_bias_rw, gyro_bias_rw, acc_bias_init,
-                     gyro_bias_init})
+    for (double v : {acc_noise_density, gyro_noise_density, acc_bias_rw, gyro_bias_rw,
+                     acc_bias_init, gyro_bias_init})
         if (!(v >= 0)) throw ConfigError("[imu] noise densities and bias sigmas must be >= 0");
 }
 

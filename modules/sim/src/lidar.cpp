@@ -9,7 +9,8 @@ namespace superloc::sim {
 
 SE3d LidarParams::T_imu_lidar() const {
     const double d2r = M_PI / 180;
-    return makePoseRPY(ext_x, ext_y, ext_z, ext_roll_deg * d2r, ext_pitch_deg * d2r, ext_yaw_deg * d2r);
+    return makePoseRPY(ext_x, ext_y, ext_z, ext_roll_deg * d2r, ext_pitch_deg * d2r,
+                       ext_yaw_deg * d2r);
 }
 
 void LidarParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
@@ -43,7 +44,8 @@ void LidarParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, con
 
 void LidarParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(model, "free text (vlp16, os1-64, os0-128...)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(preset, "INI whose [lidar] is loaded first (path relative to this file)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(preset,
+                                 "INI whose [lidar] is loaded first (path relative to this file)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(label, "sensor label of the observations");
     MRPT_SAVE_CONFIG_VAR_COMMENT(beams, "vertical channels");
     MRPT_SAVE_CONFIG_VAR_COMMENT(vfov_min_deg, "[deg] lowest beam elevation");
@@ -55,14 +57,16 @@ void LidarParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::
     MRPT_SAVE_CONFIG_VAR_COMMENT(range_noise, "[m] 1-sigma Gaussian range noise");
     MRPT_SAVE_CONFIG_VAR_COMMENT(dropout_rate, "[0..1] probability a return is lost");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_azimuth_deg, "[deg] azimuth of the first column");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(rotation_sense, "+1 counter-clockwise seen from above, -1 clockwise");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rotation_sense,
+                                 "+1 counter-clockwise seen from above, -1 clockwise");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_x, "[m] LiDAR position in the IMU frame (T_imu_lidar)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_y, "[m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_z, "[m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_roll_deg, "[deg] LiDAR orientation in the IMU frame");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_pitch_deg, "[deg]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ext_yaw_deg, "[deg]");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_x, "[m] platform body box in the LiDAR frame (self-occlusion)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_x,
+                                 "[m] platform body box in the LiDAR frame (self-occlusion)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_y, "[m] (disabled while any min >= max)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(self_min_z, "[m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(self_max_x, "[m]");
@@ -120,8 +124,9 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
     // Beam elevations, top beam first (firing order within a column).
     std::vector<double> elev(p.beams);
     for (int b = 0; b < p.beams; ++b)
-        elev[b] = (p.beams == 1 ? p.vfov_max_deg
-                                : p.vfov_max_deg - (p.vfov_max_deg - p.vfov_min_deg) * b / (p.beams - 1)) *
+        elev[b] = (p.beams == 1
+                       ? p.vfov_max_deg
+                       : p.vfov_max_deg - (p.vfov_max_deg - p.vfov_min_deg) * b / (p.beams - 1)) *
                   d2r;
 
     const Vec3d self_lo(p.self_min_x, p.self_min_y, p.self_min_z),
@@ -138,8 +143,8 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
         const SE3d T_map_lidar = traj.pose(t_end + rel) * T_imu_lidar;
         const double az = (p.start_azimuth_deg + p.rotation_sense * 360.0 * c / p.columns) * d2r;
         for (int b = 0; b < p.beams; ++b) {
-            dirs_lidar[b] = Vec3d(std::cos(elev[b]) * std::cos(az), std::cos(elev[b]) * std::sin(az),
-                                  std::sin(elev[b]));
+            dirs_lidar[b] = Vec3d(std::cos(elev[b]) * std::cos(az),
+                                  std::cos(elev[b]) * std::sin(az), std::sin(elev[b]));
             dirs_map[b] = T_map_lidar.linear() * dirs_lidar[b];
             if (self_box) self_entry[b] = rayBoxEntry(dirs_lidar[b], self_lo, self_hi);
         }

@@ -29,7 +29,8 @@ void Mesh::addGridQuad(const Vec3d& origin, const Vec3d& u, const Vec3d& v, int 
     const int base = static_cast<int>(vertices.size());
     for (int j = 0; j <= n_v; ++j)
         for (int i = 0; i <= n_u; ++i)
-            vertices.push_back((origin + u * (double(i) / n_u) + v * (double(j) / n_v)).cast<float>());
+            vertices.push_back(
+                (origin + u * (double(i) / n_u) + v * (double(j) / n_v)).cast<float>());
     const auto idx = [&](int i, int j) { return base + j * (n_u + 1) + i; };
     for (int j = 0; j < n_v; ++j)
         for (int i = 0; i < n_u; ++i) {

@@ -18,12 +18,16 @@ double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
 
 uint64_t streamSeed(uint64_t seed, const char* purpose) {
     uint64_t h = 1469598103934665603ull;  // FNV-1a of the purpose
-    for (const char* c = purpose; *c; ++c) h = (h ^ static_cast<unsigned char>(*c)) * 1099511628211ull;
+    for (const char* c = purpose; *c; ++c)
+        h = (h ^ static_cast<unsigned char>(*c)) * 1099511628211ull;
     return splitmix64(seed ^ splitmix64(h));
 }
 
 FractalNoise::FractalNoise(uint64_t seed, double wavelength, int octaves, double persistence)
-    : seed_(seed), inv_wavelength_(1.0 / wavelength), octaves_(octaves), persistence_(persistence) {}
+    : seed_(seed),
+      inv_wavelength_(1.0 / wavelength),
+      octaves_(octaves),
+      persistence_(persistence) {}
 
 double FractalNoise::lattice(int64_t x, int64_t y, int64_t z, int octave) const {
     uint64_t h = splitmix64(seed_ + static_cast<uint64_t>(octave));
@@ -35,7 +39,8 @@ double FractalNoise::lattice(int64_t x, int64_t y, int64_t z, int octave) const 
 
 double FractalNoise::valueNoise(const Vec3d& p, int octave) const {
     const double fx = std::floor(p.x()), fy = std::floor(p.y()), fz = std::floor(p.z());
-    const auto x0 = static_cast<int64_t>(fx), y0 = static_cast<int64_t>(fy), z0 = static_cast<int64_t>(fz);
+    const auto x0 = static_cast<int64_t>(fx), y0 = static_cast<int64_t>(fy),
+               z0 = static_cast<int64_t>(fz);
     const double u = fade(p.x() - fx), v = fade(p.y() - fy), w = fade(p.z() - fz);
     double acc = 0;
     for (int dz = 0; dz < 2; ++dz)

@@ -7,7 +7,8 @@
 
 namespace superloc::sim {
 
-void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(label, string, c, s);
     MRPT_LOAD_CONFIG_VAR(rate_hz, double, c, s);
@@ -28,7 +29,8 @@ void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
 }
 
 void OdomAltParams::validate() const {
-    if (!(rate_hz >= 1 && rate_hz <= 200)) throw ConfigError("[odom_alt] rate_hz must be in [1, 200]");
+    if (!(rate_hz >= 1 && rate_hz <= 200))
+        throw ConfigError("[odom_alt] rate_hz must be in [1, 200]");
     if (!(drift_per_m >= 0 && drift_per_rad >= 0 && trans_noise >= 0 && rot_noise_deg >= 0))
         throw ConfigError("[odom_alt] drift and noise values must be >= 0");
 }
@@ -70,7 +72,8 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
     const double sr =
         p_.drift_per_rad * angle_ + (p_.rot_noise_deg * M_PI / 180) * std::sqrt(double(count_));
     Mat6d cov = Mat6d::Zero();
-    cov.diagonal() << Vec3d::Constant(std::max(st * st, 1e-8)), Vec3d::Constant(std::max(sr * sr, 1e-10));
+    cov.diagonal() << Vec3d::Constant(std::max(st * st, 1e-8)),
+        Vec3d::Constant(std::max(sr * sr, 1e-10));
     out.pose = odom_;
     out.cov = cov;
     return out;

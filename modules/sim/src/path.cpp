@@ -78,13 +78,14 @@ DensePath makeDensePath(const std::vector<Waypoint>& waypoints, const MotionLimi
     for (size_t i = 0; i < n; ++i) {
         const size_t a = indexAt(path.s[i] - 0.2), b = indexAt(path.s[i] + 0.2);
         if (a == i || b == i || b >= n) continue;
-        const Vec3d t1 = (path.p[i] - path.p[a]).normalized(), t2 = (path.p[b] - path.p[i]).normalized();
+        const Vec3d t1 = (path.p[i] - path.p[a]).normalized(),
+                    t2 = (path.p[b] - path.p[i]).normalized();
         const double ang = std::acos(std::clamp(t1.dot(t2), -1.0, 1.0));
         // The two chords turn by the arc between their midpoints, (s[b] - s[a]) / 2.
         const double kappa = ang / std::max(1e-6, 0.5 * (path.s[b] - path.s[a]));
         if (kappa > 1e-6)
-            path.v[i] = std::min({path.v[i], lim.max_yaw_rate / kappa,
-                                  std::sqrt(lim.max_lat_accel / kappa)});
+            path.v[i] = std::min(
+                {path.v[i], lim.max_yaw_rate / kappa, std::sqrt(lim.max_lat_accel / kappa)});
     }
     path.v.front() = 0;
     path.v.back() = 0;
@@ -96,8 +97,8 @@ DensePath makeDensePath(const std::vector<Waypoint>& waypoints, const MotionLimi
                                                   2 * lim.max_accel * (path.s[i + 1] - path.s[i])));
     path.t.assign(n, 0);
     for (size_t i = 1; i < n; ++i)
-        path.t[i] = path.t[i - 1] + 2 * (path.s[i] - path.s[i - 1]) /
-                                        std::max(1e-3, path.v[i - 1] + path.v[i]);
+        path.t[i] = path.t[i - 1] +
+                    2 * (path.s[i] - path.s[i - 1]) / std::max(1e-3, path.v[i - 1] + path.v[i]);
     return path;
 }
 

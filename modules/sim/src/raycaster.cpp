@@ -19,20 +19,19 @@ RayCaster::RayCaster(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
     // One thread: generation is measured on one core, and results must not depend on scheduling.
     impl_->device = rtcNewDevice("threads=1");
     if (!impl_->device)
-        throw std::runtime_error(
-            "RayCaster: rtcNewDevice failed (error " + std::to_string(rtcGetDeviceError(nullptr)) +
-            ")");
+        throw std::runtime_error("RayCaster: rtcNewDevice failed (error " +
+                                 std::to_string(rtcGetDeviceError(nullptr)) + ")");
     impl_->scene = rtcNewScene(impl_->device);
     rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-        mesh.vertices.size()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                          mesh.vertices.size()));
     for (size_t i = 0; i < mesh.vertices.size(); ++i)
         std::memcpy(v + 3 * i, mesh.vertices[i].data(), 3 * sizeof(float));
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-        mesh.triangles.size()));
+    auto* idx = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), mesh.triangles.size()));
     for (size_t i = 0; i < mesh.triangles.size(); ++i)
         for (int k = 0; k < 3; ++k) idx[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
     rtcCommitGeometry(geom);
@@ -76,8 +75,8 @@ RayHit RayCaster::cast(const Vec3d& o, const Vec3d& d, double t_min, double t_ma
     return out;
 }
 
-void RayCaster::castFan(const Vec3d& o, const std::vector<Vec3d>& dirs, double t_min,
-                        double t_max, std::vector<RayHit>& out) const {
+void RayCaster::castFan(const Vec3d& o, const std::vector<Vec3d>& dirs, double t_min, double t_max,
+                        std::vector<RayHit>& out) const {
     out.assign(dirs.size(), RayHit{});
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

@@ -19,10 +19,13 @@ namespace superloc::sim {
 SimApp::SimApp() : mrpt::system::COutputLogger("superloc-sim") {}
 
 std::string SimApp::usage() {
-    return "Usage: superloc-sim CONFIG.ini [--out DIR] [--seed N] [--set section.key=value]... [--help]\n"
+    return "Usage: superloc-sim CONFIG.ini [--out DIR] [--seed N] [--set section.key=value]... "
+           "[--help]\n"
            "Simulates a LiDAR + IMU + odom_alt sequence in a synthetic world (ini/sim/*.ini).\n"
-           "Writes DIR/sequence.rawlog, gt_tum.txt, gt_map.ply, prior_map.pcd, topview.svg, config.ini\n"
-           "(DIR defaults to ./sim-out). --seed overrides [sim] seed; --set overrides any INI key.\n";
+           "Writes DIR/sequence.rawlog, gt_tum.txt, gt_map.ply, prior_map.pcd, topview.svg, "
+           "config.ini\n"
+           "(DIR defaults to ./sim-out). --seed overrides [sim] seed; --set overrides any INI "
+           "key.\n";
 }
 
 bool SimApp::initialize(int argc, const char* const* argv) {
@@ -31,16 +34,23 @@ bool SimApp::initialize(int argc, const char* const* argv) {
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw std::runtime_error("option " + a + " needs a value (see --help)");
+            if (i + 1 >= argc)
+                throw std::runtime_error("option " + a + " needs a value (see --help)");
             return argv[++i];
         };
         if (a == "--help" || a == "-h") return false;
-        if (a == "--out") out = value();
-        else if (a == "--seed") seed = value();
-        else if (a == "--set") sets.push_back(value());
-        else if (!a.empty() && a[0] == '-') throw std::runtime_error("unknown option '" + a + "' (see --help)");
-        else if (ini.empty()) ini = a;
-        else throw std::runtime_error("unexpected argument '" + a + "' (one CONFIG.ini only)");
+        if (a == "--out")
+            out = value();
+        else if (a == "--seed")
+            seed = value();
+        else if (a == "--set")
+            sets.push_back(value());
+        else if (!a.empty() && a[0] == '-')
+            throw std::runtime_error("unknown option '" + a + "' (see --help)");
+        else if (ini.empty())
+            ini = a;
+        else
+            throw std::runtime_error("unexpected argument '" + a + "' (one CONFIG.ini only)");
     }
     if (ini.empty()) throw std::runtime_error("missing CONFIG.ini (see --help)");
     if (!seed.empty()) {
@@ -89,7 +99,8 @@ SimSummary SimApp::run() {
 
     std::error_code ec;
     fs::create_directories(out_dir_, ec);
-    if (!fs::is_directory(out_dir_)) throw std::runtime_error(out_dir_ + ": cannot create output folder");
+    if (!fs::is_directory(out_dir_))
+        throw std::runtime_error(out_dir_ + ": cannot create output folder");
     const auto out = [&](const char* name) { return (fs::path(out_dir_) / name).string(); };
 
     // Sequence: IMU, odom_alt, LiDAR sweeps and gt merged in time order (integer tick counters).
@@ -101,9 +112,10 @@ SimSummary SimApp::run() {
     const double period = c.lidar.period();
     const size_t n_imu = static_cast<size_t>(std::floor((t1 - t0) * c.imu.rate_hz + 1e-9)) + 1;
     const size_t n_scan = static_cast<size_t>(std::floor((t1 - t0) / period + 1e-9));
-    const size_t n_odom = c.odom_alt.enabled
-                              ? static_cast<size_t>(std::floor((t1 - t0) * c.odom_alt.rate_hz + 1e-9)) + 1
-                              : 0;
+    const size_t n_odom =
+        c.odom_alt.enabled
+            ? static_cast<size_t>(std::floor((t1 - t0) * c.odom_alt.rate_hz + 1e-9)) + 1
+            : 0;
     Trajectory gt;
     size_t i_imu = 0, i_odom = 0, i_scan = 0;
     std::vector<Vec3d> positions;
@@ -123,7 +135,8 @@ SimSummary SimApp::run() {
             if (i_imu % 20 == 0) positions.push_back(last_pos);
             ++i_imu;
         } else if (t_odom <= t_scan) {
-            rawlog.writePose(odom.step(t_odom, traj.pose(t_odom)), c.odom_alt.label);  // body (IMU) frame
+            rawlog.writePose(odom.step(t_odom, traj.pose(t_odom)),
+                             c.odom_alt.label);  // body (IMU) frame
             ++i_odom;
         } else {
             const Scan scan =
@@ -154,8 +167,9 @@ SimSummary SimApp::run() {
     positions.push_back(traj.pose(t1).translation());
     {
         const NearMask near(positions, c.sim.gt_map_max_distance);
-        PointCloud gt_map = sampleSurface(world.mesh, c.sim.gt_map_spacing, streamSeed(seed, "gt_map"),
-                                          [&](const Vec3f& p) { return near.contains(p); });
+        PointCloud gt_map =
+            sampleSurface(world.mesh, c.sim.gt_map_spacing, streamSeed(seed, "gt_map"),
+                          [&](const Vec3f& p) { return near.contains(p); });
         gt_map.normals.clear();
         sum.gt_map_points = gt_map.size();
         io::savePointCloud(out("gt_map.ply"), gt_map);
@@ -164,8 +178,9 @@ SimSummary SimApp::run() {
     {
         const NearMask near(positions, c.sim.prior_map_max_distance);
         const double spacing = std::min(0.05, c.sim.prior_map_voxel / 2);
-        const PointCloud samples = sampleSurface(world.mesh, spacing, streamSeed(seed, "prior_samples"),
-                                                 [&](const Vec3f& p) { return near.contains(p); });
+        const PointCloud samples =
+            sampleSurface(world.mesh, spacing, streamSeed(seed, "prior_samples"),
+                          [&](const Vec3f& p) { return near.contains(p); });
         const PointCloud prior = makePriorMap(samples, c.sim.prior_map_voxel, c.sim.prior_map_noise,
                                               c.sim.prior_map_warp, streamSeed(seed, "prior_map"));
         sum.prior_map_points = prior.size();
@@ -174,9 +189,10 @@ SimSummary SimApp::run() {
 
     // Documentation outputs: top view and the effective configuration.
     TopViewOptions tv;
-    tv.title = world.name + " (seed " + std::to_string(seed) + "): " +
-               std::to_string(static_cast<int>(std::round(sum.path_length))) + " m in " +
-               std::to_string(static_cast<int>(std::round(sum.duration))) + " s, " + c.trajectory.platform;
+    tv.title = world.name + " (seed " + std::to_string(seed) +
+               "): " + std::to_string(static_cast<int>(std::round(sum.path_length))) + " m in " +
+               std::to_string(static_cast<int>(std::round(sum.duration))) + " s, " +
+               c.trajectory.platform;
     std::ofstream(out("topview.svg")) << topViewSvg(world.mesh, positions, tv);
     {
         SimConfig eff = c;
@@ -190,16 +206,16 @@ SimSummary SimApp::run() {
         std::ofstream(out("config.ini")) << eff.ini.getContent();
     }
     if (on_progress) on_progress(1.0);
-    MRPT_LOG_INFO_FMT("travelled %.1f m in %.1f s, max %.2f m/s and %.1f deg/s yaw rate", sum.path_length,
-                      sum.duration, sum.max_speed, sum.max_yaw_rate * 180 / M_PI);
+    MRPT_LOG_INFO_FMT("travelled %.1f m in %.1f s, max %.2f m/s and %.1f deg/s yaw rate",
+                      sum.path_length, sum.duration, sum.max_speed, sum.max_yaw_rate * 180 / M_PI);
     const double np = std::max<size_t>(1, sum.points);
     MRPT_LOG_INFO_FMT("returns on surfaces facing x / y / z (map frame): %.1f / %.1f / %.1f %%",
                       100 * sum.normal_axis[0] / np, 100 * sum.normal_axis[1] / np,
                       100 * sum.normal_axis[2] / np);
     MRPT_LOG_INFO_STREAM("wrote " << out_dir_ << ": " << sum.scans << " sweeps (" << sum.points
                                   << " points), " << sum.imu << " IMU, " << sum.odom_alt
-                                  << " odom_alt, gt_map " << sum.gt_map_points << " points, prior_map "
-                                  << sum.prior_map_points << " points");
+                                  << " odom_alt, gt_map " << sum.gt_map_points
+                                  << " points, prior_map " << sum.prior_map_points << " points");
     return sum;
 }
 

@@ -22,7 +22,8 @@ std::string readText(const std::string& path, const std::string& what) {
 
 // Prefixes a section-only validate() message with the file name.
 template <class P>
-P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect, const std::string& source) {
+P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect,
+       const std::string& source) {
     try {
         return loadParams<P>(cfg, sect, source);
     } catch (const ConfigError& e) {

@@ -20,11 +20,13 @@ void SimParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
 void SimParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(world, "corridor, cave, multifloor, openfield, office");
     c.write(s, "seed", static_cast<uint64_t>(seed), mrpt::config::MRPT_SAVE_NAME_PADDING(),
-            mrpt::config::MRPT_SAVE_VALUE_PADDING(), "random parts of the world and all noise (--seed)");
+            mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+            "random parts of the world and all noise (--seed)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(duration, "[s] sequence length (shorter if the route ends first)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_time, "[s] timestamp of the first sample (UNIX time)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(gt_map_spacing, "[m] survey-map surface sampling");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(gt_map_max_distance, "[m] surveyed surfaces: this close to the path");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(gt_map_max_distance,
+                                 "[m] surveyed surfaces: this close to the path");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_voxel, "[m] voxel size of prior_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_noise, "[m] 1-sigma white mapping noise");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_warp, "[m] smooth mapping warp amplitude (~10 m scale)");

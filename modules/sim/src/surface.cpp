@@ -12,7 +12,8 @@ namespace {
 uint64_t packKey(int64_t x, int64_t y, int64_t z) {
     const uint64_t m = (1u << 21) - 1;
     return ((static_cast<uint64_t>(x + (1 << 20)) & m) << 42) |
-           ((static_cast<uint64_t>(y + (1 << 20)) & m) << 21) | (static_cast<uint64_t>(z + (1 << 20)) & m);
+           ((static_cast<uint64_t>(y + (1 << 20)) & m) << 21) |
+           (static_cast<uint64_t>(z + (1 << 20)) & m);
 }
 
 }  // namespace
@@ -24,14 +25,15 @@ NearMask::NearMask(const std::vector<Vec3d>& centres, double radius) : cell_(rad
     for (const auto& c : centres) {
         const Eigen::Vector3i k((c / cell_).array().floor().cast<int>());
         const uint64_t key = packKey(k.x(), k.y(), k.z());
-        if (std::find(centre_keys.end() - std::min<size_t>(centre_keys.size(), 64), centre_keys.end(), key) !=
-            centre_keys.end())
+        if (std::find(centre_keys.end() - std::min<size_t>(centre_keys.size(), 64),
+                      centre_keys.end(), key) != centre_keys.end())
             continue;
         centre_keys.push_back(key);
         for (int dz = -r; dz <= r; ++dz)
             for (int dy = -r; dy <= r; ++dy)
                 for (int dx = -r; dx <= r; ++dx)
-                    if ((dx * dx + dy * dy + dz * dz) * cell_ * cell_ <= (radius + 1.8 * cell_) * (radius + 1.8 * cell_))
+                    if ((dx * dx + dy * dy + dz * dz) * cell_ * cell_ <=
+                        (radius + 1.8 * cell_) * (radius + 1.8 * cell_))
                         keys_.push_back(packKey(k.x() + dx, k.y() + dy, k.z() + dz));
         if (keys_.size() > (1u << 24)) {  // compact now and then
             std::sort(keys_.begin(), keys_.end());
@@ -81,8 +83,8 @@ PointCloud makePriorMap(const PointCloud& samples, double voxel, double noise, d
     kept = voxelDownsample(kept, static_cast<float>(voxel));
     std::mt19937_64 rng(seed);
     std::normal_distribution<double> N(0.0, 1.0);
-    const FractalNoise wx(streamSeed(seed, "warp-x"), 10.0, 2), wy(streamSeed(seed, "warp-y"), 10.0, 2),
-        wz(streamSeed(seed, "warp-z"), 10.0, 2);
+    const FractalNoise wx(streamSeed(seed, "warp-x"), 10.0, 2),
+        wy(streamSeed(seed, "warp-y"), 10.0, 2), wz(streamSeed(seed, "warp-z"), 10.0, 2);
     for (auto& p : kept.points) {
         const Vec3d q = p.cast<double>();
         const Vec3d d = warp * Vec3d(wx(q), wy(q), wz(q)) + noise * Vec3d(N(rng), N(rng), N(rng));

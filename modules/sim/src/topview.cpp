@@ -20,13 +20,15 @@ std::string heightColour(double f) {
     f = std::clamp(f, 0.0, 1.0);
     char b[16];
     std::snprintf(b, sizeof b, "#%02x%02x%02x", static_cast<int>(40 + 215 * f),
-                  static_cast<int>(90 + 60 * (1 - std::abs(2 * f - 1))), static_cast<int>(255 - 215 * f));
+                  static_cast<int>(90 + 60 * (1 - std::abs(2 * f - 1))),
+                  static_cast<int>(255 - 215 * f));
     return b;
 }
 
 }  // namespace
 
-std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const TopViewOptions& opt) {
+std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj,
+                       const TopViewOptions& opt) {
     Vec3d lo, hi;
     mesh.bounds(lo, hi);
     if (!traj.empty()) {
@@ -49,8 +51,10 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
         if (ix < 0 || iy < 0 || ix >= nx || iy >= ny) continue;
         const float nz = s.normals[i].z();
         uint8_t& g = grid[static_cast<size_t>(iy) * nx + ix];
-        if (std::abs(nz) < 0.6f) g = 2;
-        else if (nz > 0 && g == 0) g = 1;
+        if (std::abs(nz) < 0.6f)
+            g = 2;
+        else if (nz > 0 && g == 0)
+            g = 1;
     }
     const double px = std::min(50.0, opt.max_pixels / (std::max(nx, ny) * cell));  // px per metre
     const double W = nx * cell * px, H = ny * cell * px + 30;
@@ -72,8 +76,9 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
                 int end = ix;
                 while (end < nx && grid[static_cast<size_t>(iy) * nx + end] == cls) ++end;
                 o << "<rect x=\"" << fmt(X(lo.x() + ix * cell)) << "\" y=\""
-                  << fmt(Y(lo.y() + (iy + 1) * cell)) << "\" width=\"" << fmt((end - ix) * cell * px)
-                  << "\" height=\"" << fmt(cell * px + 0.3) << "\"/>\n";
+                  << fmt(Y(lo.y() + (iy + 1) * cell)) << "\" width=\""
+                  << fmt((end - ix) * cell * px) << "\" height=\"" << fmt(cell * px + 0.3)
+                  << "\"/>\n";
                 ix = end;
             }
         o << "</g>\n";
@@ -85,8 +90,10 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
         for (size_t i = 0; i + 1 < traj.size(); i += chunk) {
             const size_t j = std::min(traj.size() - 1, i + chunk);
             const double f = zhi - zlo > 0.2 ? (traj[i].z() - zlo) / (zhi - zlo) : 0.0;
-            o << "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" << heightColour(f) << "\" points=\"";
-            for (size_t k = i; k <= j; ++k) o << fmt(X(traj[k].x())) << ',' << fmt(Y(traj[k].y())) << ' ';
+            o << "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" << heightColour(f)
+              << "\" points=\"";
+            for (size_t k = i; k <= j; ++k)
+                o << fmt(X(traj[k].x())) << ',' << fmt(Y(traj[k].y())) << ' ';
             o << "\"/>\n";
         }
         o << "<circle cx=\"" << fmt(X(traj.front().x())) << "\" cy=\"" << fmt(Y(traj.front().y()))
@@ -94,8 +101,10 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj, const T
           << "<rect x=\"" << fmt(X(traj.back().x()) - 4) << "\" y=\"" << fmt(Y(traj.back().y()) - 4)
           << "\" width=\"8\" height=\"8\" fill=\"red\"/>\n";
         if (zhi - zlo > 0.2)
-            o << "<text x=\"" << fmt(W - 250) << "\" y=\"20\" font-family=\"sans-serif\" font-size=\"13\">"
-              << "path colour: z " << fmt(zlo) << " m (blue) to " << fmt(zhi) << " m (red)</text>\n";
+            o << "<text x=\"" << fmt(W - 250)
+              << "\" y=\"20\" font-family=\"sans-serif\" font-size=\"13\">"
+              << "path colour: z " << fmt(zlo) << " m (blue) to " << fmt(zhi)
+              << " m (red)</text>\n";
     }
     const double bar = px * 10 > 300 ? 1 : (px * 10 > 40 ? 10 : 50);
     o << "<line x1=\"10\" y1=\"" << fmt(H - 10) << "\" x2=\"" << fmt(10 + bar * px) << "\" y2=\""

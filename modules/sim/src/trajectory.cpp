@@ -17,7 +17,8 @@ MotionLimits TrajectoryParams::limits() const {
     return l;
 }
 
-void TrajectoryParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void TrajectoryParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                          const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(platform, string, c, s);
     MRPT_LOAD_CONFIG_VAR(max_speed, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_yaw_rate_deg, double, c, s);
@@ -36,7 +37,8 @@ void TrajectoryParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
     MRPT_LOAD_CONFIG_VAR(ramp_time, double, c, s);
 }
 
-void TrajectoryParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void TrajectoryParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(platform, "free text: car, handheld, legged, wheeled");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_speed, "[m/s]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_yaw_rate_deg, "[deg/s] caps speed in turns");
@@ -159,8 +161,8 @@ BodyState SmoothTrajectory::at(double t_in) const {
     const double r = rpy.x[0], pch = rpy.x[1], yw = rpy.x[2];
     BodyState s;
     s.t = t;
-    const Mat3d R = (Eigen::AngleAxisd(yw, Vec3d::UnitZ()) * Eigen::AngleAxisd(pch, Vec3d::UnitY()) *
-                     Eigen::AngleAxisd(r, Vec3d::UnitX()))
+    const Mat3d R = (Eigen::AngleAxisd(yw, Vec3d::UnitZ()) *
+                     Eigen::AngleAxisd(pch, Vec3d::UnitY()) * Eigen::AngleAxisd(r, Vec3d::UnitX()))
                         .toRotationMatrix();
     s.T_map_body.linear() = R;
     s.T_map_body.translation() = pos.x;
@@ -168,9 +170,9 @@ BodyState SmoothTrajectory::at(double t_in) const {
     s.acc = pos.ddx;
     // ZYX Euler rates -> body angular velocity.
     const double dr = rpy.dx[0], dp = rpy.dx[1], dyw = rpy.dx[2];
-    s.omega_body = Vec3d(dr - std::sin(pch) * dyw,
-                         std::cos(r) * dp + std::sin(r) * std::cos(pch) * dyw,
-                         -std::sin(r) * dp + std::cos(r) * std::cos(pch) * dyw);
+    s.omega_body =
+        Vec3d(dr - std::sin(pch) * dyw, std::cos(r) * dp + std::sin(r) * std::cos(pch) * dyw,
+              -std::sin(r) * dp + std::cos(r) * std::cos(pch) * dyw);
     return s;
 }
 

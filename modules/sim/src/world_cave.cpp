@@ -70,9 +70,10 @@ World buildCave(const CaveParams& p, uint64_t seed, double body_height) {
     Vec3d pt(0, 0, 0);
     for (int i = 0; i < n; ++i) {
         const double s = i * p.station_step;
-        heading[i] = p.winding_deg * d2r *
-                     (0.5 * std::sin(2 * M_PI * s / 47 + ph[0]) + 0.3 * std::sin(2 * M_PI * s / 19 + ph[1]) +
-                      0.9 * std::sin(2 * M_PI * s / 130 + ph[2] + ph[3]));
+        heading[i] =
+            p.winding_deg * d2r *
+            (0.5 * std::sin(2 * M_PI * s / 47 + ph[0]) + 0.3 * std::sin(2 * M_PI * s / 19 + ph[1]) +
+             0.9 * std::sin(2 * M_PI * s / 130 + ph[2] + ph[3]));
         const double slope = p.max_slope_deg * d2r * std::sin(2 * M_PI * s / 61 + ph[2]);
         const double wf = 0.5 + 0.5 * (0.7 * std::sin(2 * M_PI * s / 29 + ph[3]) +
                                        0.3 * std::sin(2 * M_PI * s / 11 + ph[4]));
@@ -91,11 +92,13 @@ World buildCave(const CaveParams& p, uint64_t seed, double body_height) {
         const Vec3d centre = floor_pt[i] + Vec3d(0, 0, half_h[i]);
         for (int k = 0; k < m; ++k) {
             const double a = 2 * M_PI * k / m;
-            Vec3d q = centre + lateral * (half_w[i] * std::cos(a)) + Vec3d(0, 0, half_h[i] * std::sin(a));
+            Vec3d q =
+                centre + lateral * (half_w[i] * std::cos(a)) + Vec3d(0, 0, half_h[i] * std::sin(a));
             const Vec3d radial = (q - centre).normalized();
             q += radial * (p.roughness * relief(q));
             const double floor_z = floor_pt[i].z() + 0.3 * p.roughness * rubble(q);
-            if (q.z() < floor_z + 0.15) q.z() = floor_z + 0.15 * (1 + std::sin(a)) * 0.5;  // flat-ish floor
+            if (q.z() < floor_z + 0.15)
+                q.z() = floor_z + 0.15 * (1 + std::sin(a)) * 0.5;  // flat-ish floor
             mesh.vertices.push_back(q.cast<float>());
         }
     }
@@ -123,7 +126,8 @@ World buildCave(const CaveParams& p, uint64_t seed, double body_height) {
     }
 
     // Route: along the centreline at body height, from near one end to near the other.
-    const int first = static_cast<int>(3.0 / p.station_step), stride = std::max(1, static_cast<int>(2.0 / p.station_step));
+    const int first = static_cast<int>(3.0 / p.station_step),
+              stride = std::max(1, static_cast<int>(2.0 / p.station_step));
     for (int i = first; i < n - first; i += stride)
         w.route.push_back({floor_pt[i] + Vec3d(0, 0, body_height), 1.0});
     return w;

@@ -12,7 +12,8 @@
 
 namespace superloc::sim {
 
-void CorridorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void CorridorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(length, double, c, s);
     MRPT_LOAD_CONFIG_VAR(width, double, c, s);
     MRPT_LOAD_CONFIG_VAR(height, double, c, s);
@@ -25,7 +26,8 @@ void CorridorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     MRPT_LOAD_CONFIG_VAR(weave, double, c, s);
 }
 
-void CorridorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void CorridorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(length, "[m] corridor length (>= 80)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(width, "[m]");
     MRPT_SAVE_CONFIG_VAR_COMMENT(height, "[m]");
@@ -84,8 +86,8 @@ World buildCorridor(const CorridorParams& p, uint64_t seed, double body_height) 
         };
         for (const auto& [x0, x1] : rec[side]) {
             wallQuad(x, x0, 0, H, y);
-            wallQuad(x0, x1, door_h, H, y);     // lintel
-            wallQuad(x0, x1, 0, door_h, yb);    // door (recess back)
+            wallQuad(x0, x1, door_h, H, y);   // lintel
+            wallQuad(x0, x1, 0, door_h, yb);  // door (recess back)
             m.addQuad({x0, y, 0}, {x0, yb, 0}, {x0, yb, door_h}, {x0, y, door_h}, wall);  // jambs
             m.addQuad({x1, y, 0}, {x1, yb, 0}, {x1, yb, door_h}, {x1, y, door_h}, wall);
             m.addQuad({x0, y, door_h}, {x1, y, door_h}, {x1, yb, door_h}, {x0, yb, door_h}, wall);
@@ -121,7 +123,8 @@ World buildCorridor(const CorridorParams& p, uint64_t seed, double body_height) 
         Vec3d c;
         for (int tries = 0; tries < 100; ++tries) {
             c = Vec3d(L + 4 + (S - 8) * U(rng), -S / 2 + 4 + (S - 8) * U(rng), 0);
-            const bool near_loop = c.x() > L + 1 && c.x() < L + 17 + lx && c.y() > -5 && c.y() < ly + 5;
+            const bool near_loop =
+                c.x() > L + 1 && c.x() < L + 17 + lx && c.y() > -5 && c.y() < ly + 5;
             if (!near_loop) break;
         }
         if (k % 2 == 0)

@@ -11,7 +11,8 @@
 
 namespace superloc::sim {
 
-void MultifloorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void MultifloorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                          const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(floors, int, c, s);
     MRPT_LOAD_CONFIG_VAR(floor_height, double, c, s);
     MRPT_LOAD_CONFIG_VAR(slab, double, c, s);
@@ -22,7 +23,8 @@ void MultifloorParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c
     MRPT_LOAD_CONFIG_VAR(hallway_items, int, c, s);
 }
 
-void MultifloorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void MultifloorParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                        const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(floors, "storeys linked by the stairwell");
     MRPT_SAVE_CONFIG_VAR_COMMENT(floor_height, "[m] storey height");
     MRPT_SAVE_CONFIG_VAR_COMMENT(slab, "[m] floor slab thickness");
@@ -54,9 +56,9 @@ World buildMultifloor(const MultifloorParams& p, uint64_t seed, double body_heig
     std::mt19937_64 rng(streamSeed(seed, "multifloor"));
     std::uniform_real_distribution<double> U(0.0, 1.0);
     const double FH = p.floor_height, fw = p.flight_width, gap = 0.2, W = 2 * fw + gap;
-    const double land = fw;                               // landing depth
-    const double run = p.steps_per_flight * p.step_run;   // flight length
-    const double x_end = land + run + land;               // shaft end wall
+    const double land = fw;                              // landing depth
+    const double run = p.steps_per_flight * p.step_run;  // flight length
+    const double x_end = land + run + land;              // shaft end wall
     const double HL = p.hallway_length, top = p.floors * FH;
     const double rise = FH / 2 / p.steps_per_flight;
     const float wall = 0.6f, conc = 0.4f;

@@ -9,7 +9,8 @@
 
 namespace superloc::sim {
 
-void OfficeParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void OfficeParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                      const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(rooms_per_side, int, c, s);
     MRPT_LOAD_CONFIG_VAR(room_width, double, c, s);
     MRPT_LOAD_CONFIG_VAR(room_depth, double, c, s);
@@ -40,9 +41,12 @@ void OfficeParams::validate() const {
     need(room_depth >= 5.5 && room_depth <= 20, "room_depth must be in [5.5, 20] m");
     need(hallway_width >= 1.8 && hallway_width <= 6, "hallway_width must be in [1.8, 6] m");
     need(height >= 2.3 && height <= 6, "height must be in [2.3, 6] m");
-    need(door_width >= 0.8 && door_width < room_width - 1, "door_width must be in [0.8, room_width-1) m");
-    need(furniture_per_room >= 0 && furniture_per_room <= 12, "furniture_per_room must be in [0, 12]");
-    need(rooms_visited >= 0 && rooms_visited <= 2 * rooms_per_side, "rooms_visited must be in [0, 2 rooms_per_side]");
+    need(door_width >= 0.8 && door_width < room_width - 1,
+         "door_width must be in [0.8, room_width-1) m");
+    need(furniture_per_room >= 0 && furniture_per_room <= 12,
+         "furniture_per_room must be in [0, 12]");
+    need(rooms_visited >= 0 && rooms_visited <= 2 * rooms_per_side,
+         "rooms_visited must be in [0, 2 rooms_per_side]");
 }
 
 World buildOffice(const OfficeParams& p, uint64_t seed, double body_height) {
@@ -94,14 +98,16 @@ World buildOffice(const OfficeParams& p, uint64_t seed, double body_height) {
             const double x0 = i * RW;
             for (int k = 0; k < p.furniture_per_room; ++k) {
                 const bool desk = U(rng) < 0.6;
-                const Vec3d size = desk ? Vec3d(1.4 + 0.4 * U(rng), 0.75, 0.74) : Vec3d(0.9, 0.45, 1.2 + 0.8 * U(rng));
+                const Vec3d size = desk ? Vec3d(1.4 + 0.4 * U(rng), 0.75, 0.74)
+                                        : Vec3d(0.9, 0.45, 1.2 + 0.8 * U(rng));
                 const int where = static_cast<int>(3 * U(rng));  // 0: left wall, 1: right, 2: back
                 Vec3d c;
                 double yaw = 0;
                 if (where == 2) {
                     c = Vec3d(x0 + 1 + (RW - 2) * U(rng), sg * (Y - size.y() / 2 - 0.02), 0);
                 } else {
-                    const double xw = where == 0 ? x0 + size.y() / 2 + 0.02 : x0 + RW - size.y() / 2 - 0.02;
+                    const double xw =
+                        where == 0 ? x0 + size.y() / 2 + 0.02 : x0 + RW - size.y() / 2 - 0.02;
                     c = Vec3d(xw, sg * (hw + 1.6 + (D - 3.2) * U(rng)), 0);
                     yaw = M_PI / 2;
                 }

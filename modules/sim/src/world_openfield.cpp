@@ -9,7 +9,8 @@
 
 namespace superloc::sim {
 
-void OpenfieldParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+void OpenfieldParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                         const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(size, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ground_roughness, double, c, s);
     MRPT_LOAD_CONFIG_VAR(objects, int, c, s);
@@ -19,7 +20,8 @@ void OpenfieldParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
     MRPT_LOAD_CONFIG_VAR(laps, int, c, s);
 }
 
-void OpenfieldParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+void OpenfieldParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                       const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(size, "[m] side of the ground square");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ground_roughness, "[m] ground relief amplitude");
     MRPT_SAVE_CONFIG_VAR_COMMENT(objects, "sparse objects (trees, poles, sheds)");
@@ -34,11 +36,13 @@ void OpenfieldParams::validate() const {
         if (!ok) throw ConfigError(std::string("[openfield] ") + what);
     };
     need(size >= 50 && size <= 2000, "size must be in [50, 2000] m");
-    need(ground_roughness >= 0 && ground_roughness <= 0.5, "ground_roughness must be in [0, 0.5] m");
+    need(ground_roughness >= 0 && ground_roughness <= 0.5,
+         "ground_roughness must be in [0, 0.5] m");
     need(objects >= 0 && objects <= 100, "objects must be in [0, 100]");
     need(object_min_dist > 0 && object_max_dist >= object_min_dist && object_max_dist < size / 2,
          "need 0 < object_min_dist <= object_max_dist < size/2");
-    need(loop_length >= 5 && loop_length <= object_min_dist * 1.6, "loop_length must be in [5, 1.6 object_min_dist] m");
+    need(loop_length >= 5 && loop_length <= object_min_dist * 1.6,
+         "loop_length must be in [5, 1.6 object_min_dist] m");
     need(laps >= 1 && laps <= 20, "laps must be in [1, 20]");
 }
 
@@ -81,14 +85,19 @@ World buildOpenfield(const OpenfieldParams& p, uint64_t seed, double body_height
     for (int k = 0; k < p.objects; ++k) {
         const double a = 2 * M_PI * (k + 0.6 * U(rng)) / std::max(1, p.objects);
         const double r = p.object_min_dist + (p.object_max_dist - p.object_min_dist) * U(rng);
-        const Vec3d c(r * std::cos(a), r * std::sin(a), groundZ(r * std::cos(a), r * std::sin(a)) - 0.1);
+        const Vec3d c(r * std::cos(a), r * std::sin(a),
+                      groundZ(r * std::cos(a), r * std::sin(a)) - 0.1);
         switch (k % 3) {
             case 0:
                 m.addCylinder(c, 0.2, 3.0, 10, 0.4f);
                 m.addOrientedBox(c + Vec3d(0, 0, 2.5), {3.0, 3.0, 3.0}, U(rng), 0.3f);
                 break;
-            case 1: m.addCylinder(c, 0.12, 6.0, 8, 0.6f); break;
-            default: m.addOrientedBox(c, {4.0, 3.0, 2.8}, M_PI * U(rng), 0.7f); break;
+            case 1:
+                m.addCylinder(c, 0.12, 6.0, 8, 0.6f);
+                break;
+            default:
+                m.addOrientedBox(c, {4.0, 3.0, 2.8}, M_PI * U(rng), 0.7f);
+                break;
         }
     }
 

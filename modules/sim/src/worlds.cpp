@@ -22,7 +22,8 @@ World buildWorld(const std::string& name, const mrpt::config::CConfigFileBase& c
                  const std::string& source, uint64_t seed, double body_height) {
     if (name == "corridor")
         return buildCorridor(loadParams<CorridorParams>(cfg, name, source), seed, body_height);
-    if (name == "cave") return buildCave(loadParams<CaveParams>(cfg, name, source), seed, body_height);
+    if (name == "cave")
+        return buildCave(loadParams<CaveParams>(cfg, name, source), seed, body_height);
     if (name == "multifloor")
         return buildMultifloor(loadParams<MultifloorParams>(cfg, name, source), seed, body_height);
     if (name == "openfield")

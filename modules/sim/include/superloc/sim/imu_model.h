@@ -30,7 +30,7 @@ struct ImuParams : public mrpt::config::CLoadableOptions {
 
 /// Generates consecutive IMU samples; holds the evolving biases.
 class ImuSimulator {
-   public:
+ public:
     ImuSimulator(const ImuParams& p, uint64_t seed);
     /// The sample at state s (call in time order, once per 1/rate_hz); biases then step on.
     ImuSample sample(const BodyState& s);
@@ -40,7 +40,7 @@ class ImuSimulator {
     const Vec3d& accBias() const { return ba_; }
     const Vec3d& gyroBias() const { return bg_; }
 
-   private:
+ private:
     ImuParams p_;
     std::mt19937_64 rng_;
     std::normal_distribution<double> n01_{0.0, 1.0};

@@ -20,22 +20,22 @@ namespace superloc::sim {
 
 /// Section [lidar]: sensor intrinsics (usually from a preset in ini/sensors/) and mounting.
 struct LidarParams : public mrpt::config::CLoadableOptions {
-    std::string model = "os1-64";   ///< free text
-    std::string preset;             ///< INI file (relative to the config) whose [lidar] is loaded first
-    std::string label = "lidar";    ///< sensor label of the observations
-    int beams = 64;                 ///< number of vertical channels
-    double vfov_min_deg = -22.5;    ///< [deg] lowest beam elevation
-    double vfov_max_deg = 22.5;     ///< [deg] highest beam elevation (beams evenly spaced)
-    int columns = 1024;             ///< firings per revolution
-    double rate_hz = 10.0;          ///< [Hz] revolutions per second
-    double min_range = 0.3;         ///< [m]
-    double max_range = 100.0;       ///< [m]
-    double range_noise = 0.02;      ///< [m] 1-sigma Gaussian range noise
-    double dropout_rate = 0.02;     ///< [0..1] probability that a return is lost
+    std::string model = "os1-64";  ///< free text
+    std::string preset;  ///< INI file (relative to the config) whose [lidar] is loaded first
+    std::string label = "lidar";       ///< sensor label of the observations
+    int beams = 64;                    ///< number of vertical channels
+    double vfov_min_deg = -22.5;       ///< [deg] lowest beam elevation
+    double vfov_max_deg = 22.5;        ///< [deg] highest beam elevation (beams evenly spaced)
+    int columns = 1024;                ///< firings per revolution
+    double rate_hz = 10.0;             ///< [Hz] revolutions per second
+    double min_range = 0.3;            ///< [m]
+    double max_range = 100.0;          ///< [m]
+    double range_noise = 0.02;         ///< [m] 1-sigma Gaussian range noise
+    double dropout_rate = 0.02;        ///< [0..1] probability that a return is lost
     double start_azimuth_deg = 180.0;  ///< [deg] azimuth of the first column
-    int rotation_sense = 1;         ///< +1 counter-clockwise seen from above, -1 clockwise
+    int rotation_sense = 1;            ///< +1 counter-clockwise seen from above, -1 clockwise
     // Pose of the LiDAR in the IMU (body) frame: T_imu_lidar = the observation's sensorPose.
-    double ext_x = 0.0, ext_y = 0.0, ext_z = 0.1;            ///< [m]
+    double ext_x = 0.0, ext_y = 0.0, ext_z = 0.1;                 ///< [m]
     double ext_roll_deg = 0, ext_pitch_deg = 0, ext_yaw_deg = 0;  ///< [deg]
     // The platform's own body as a box in the LiDAR frame: rays into it return nothing (drivers
     // drop self-points). Disabled while any min >= max.

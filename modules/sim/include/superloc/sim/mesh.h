@@ -10,9 +10,9 @@ namespace superloc::sim {
 
 /// An indexed triangle mesh in the map frame, with a LiDAR reflectivity per triangle.
 struct Mesh {
-    std::vector<Vec3f> vertices;                ///< [m] map frame
-    std::vector<Eigen::Vector3i> triangles;     ///< vertex indices
-    std::vector<float> reflectivity;            ///< [0..1] one per triangle
+    std::vector<Vec3f> vertices;             ///< [m] map frame
+    std::vector<Eigen::Vector3i> triangles;  ///< vertex indices
+    std::vector<float> reflectivity;         ///< [0..1] one per triangle
 
     size_t size() const { return triangles.size(); }
 
@@ -25,7 +25,8 @@ struct Mesh {
     /// Axis-aligned box [lo, hi] (all six faces).
     void addBox(const Vec3d& lo, const Vec3d& hi, float refl = 0.5f);
     /// Box of size (sx, sy, sz) centred at `center` (z = bottom face), rotated by yaw about z.
-    void addOrientedBox(const Vec3d& bottom_center, const Vec3d& size, double yaw, float refl = 0.5f);
+    void addOrientedBox(const Vec3d& bottom_center, const Vec3d& size, double yaw,
+                        float refl = 0.5f);
     /// Vertical cylinder (side + top) on `bottom_center`, `segments` facets.
     void addCylinder(const Vec3d& bottom_center, double radius, double height, int segments = 16,
                      float refl = 0.5f);

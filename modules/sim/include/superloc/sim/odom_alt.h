@@ -2,8 +2,9 @@
 //
 // Poses are T_odom_imu: the body (IMU) frame in the odometry's own frame, which starts at
 // identity at the first sample (as a VIO reports its IMU). Relative motions between two samples
-// are therefore T_imu(a)_imu(b), what the fusion's relative-pose prior takes. Each increment dT between consecutive samples (from ground truth) is
-// corrupted as  dT_noisy = dT * Exp([d_t; d_r]) with
+// are therefore T_imu(a)_imu(b), what the fusion's relative-pose prior takes. Each increment dT
+// between consecutive samples (from ground truth) is corrupted as  dT_noisy = dT * Exp([d_t; d_r])
+// with
 //   d_t = drift_per_m * |dt| * u  + trans_noise * n_t      (u: fixed unit vector, body frame)
 //   d_r = sign * drift_per_rad * dphi + rot_noise * n_r   (dphi: the increment's rotation vector)
 // so along a straight path the position error grows by drift_per_m metres per metre travelled
@@ -23,11 +24,11 @@ namespace superloc::sim {
 struct OdomAltParams : public mrpt::config::CLoadableOptions {
     bool enabled = true;
     std::string label = "odom_alt";
-    double rate_hz = 20.0;       ///< [Hz] 10-30 for VIO/wheel odometry
-    double drift_per_m = 0.02;   ///< [m/m] translation drift per metre travelled
-    double drift_per_rad = 0.02; ///< [rad/rad] rotation drift per radian turned
-    double trans_noise = 0.0005; ///< [m] 1-sigma white noise per increment
-    double rot_noise_deg = 0.01; ///< [deg] 1-sigma white noise per increment
+    double rate_hz = 20.0;        ///< [Hz] 10-30 for VIO/wheel odometry
+    double drift_per_m = 0.02;    ///< [m/m] translation drift per metre travelled
+    double drift_per_rad = 0.02;  ///< [rad/rad] rotation drift per radian turned
+    double trans_noise = 0.0005;  ///< [m] 1-sigma white noise per increment
+    double rot_noise_deg = 0.01;  ///< [deg] 1-sigma white noise per increment
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -35,12 +36,12 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
 };
 
 class OdomAltSimulator {
-   public:
+ public:
     OdomAltSimulator(const OdomAltParams& p, uint64_t seed);
     /// Next odometry pose from the true T_map_imu at time t (call in time order).
     PoseStamped step(double t, const SE3d& T_map_imu);
 
-   private:
+ private:
     OdomAltParams p_;
     std::mt19937_64 rng_;
     std::normal_distribution<double> n01_{0.0, 1.0};

@@ -16,19 +16,19 @@ struct Waypoint {
 
 /// Limits of the platform moving along the path.
 struct MotionLimits {
-    double max_speed = 1.0;     ///< [m/s]
-    double max_yaw_rate = 1.0;  ///< [rad/s] caps speed in turns (v <= max_yaw_rate / curvature)
-    double max_accel = 1.0;     ///< [m/s^2] along the path
-    double max_lat_accel = 2.0; ///< [m/s^2] caps speed in turns (v^2 <= a_lat / curvature)
-    double corner_radius = 1.0; ///< [m] fillet radius of waypoint corners
+    double max_speed = 1.0;      ///< [m/s]
+    double max_yaw_rate = 1.0;   ///< [rad/s] caps speed in turns (v <= max_yaw_rate / curvature)
+    double max_accel = 1.0;      ///< [m/s^2] along the path
+    double max_lat_accel = 2.0;  ///< [m/s^2] caps speed in turns (v^2 <= a_lat / curvature)
+    double corner_radius = 1.0;  ///< [m] fillet radius of waypoint corners
 };
 
 /// Dense polyline with arc length and speed profile (starts and ends at rest).
 struct DensePath {
-    std::vector<Vec3d> p;      ///< [m]
-    std::vector<double> s;     ///< [m] arc length at each point
-    std::vector<double> v;     ///< [m/s] speed at each point
-    std::vector<double> t;     ///< [s] time at each point from the start (t[0] = 0)
+    std::vector<Vec3d> p;   ///< [m]
+    std::vector<double> s;  ///< [m] arc length at each point
+    std::vector<double> v;  ///< [m/s] speed at each point
+    std::vector<double> t;  ///< [s] time at each point from the start (t[0] = 0)
 
     double length() const { return s.empty() ? 0 : s.back(); }
     double duration() const { return t.empty() ? 0 : t.back(); }

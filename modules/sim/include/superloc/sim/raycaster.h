@@ -10,14 +10,14 @@ namespace superloc::sim {
 /// The first surface a ray meets.
 struct RayHit {
     bool hit = false;
-    double range = 0;         ///< [m] distance along the (unit) direction
-    uint32_t triangle = 0;    ///< index into Mesh::triangles
+    double range = 0;               ///< [m] distance along the (unit) direction
+    uint32_t triangle = 0;          ///< index into Mesh::triangles
     Vec3d normal = Vec3d::UnitZ();  ///< unit geometric normal (not flipped)
 };
 
 /// Owns the Embree device and scene built from a mesh (the mesh is copied into Embree buffers).
 class RayCaster {
-   public:
+ public:
     explicit RayCaster(const Mesh& mesh);
     ~RayCaster();
     RayCaster(const RayCaster&) = delete;
@@ -31,7 +31,7 @@ class RayCaster {
     void castFan(const Vec3d& origin, const std::vector<Vec3d>& dirs, double t_min, double t_max,
                  std::vector<RayHit>& out) const;
 
-   private:
+ private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

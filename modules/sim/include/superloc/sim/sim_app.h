@@ -52,8 +52,8 @@ SimScene makeScene(const SimConfig& cfg);
 struct SimSummary {
     size_t scans = 0, points = 0, imu = 0, odom_alt = 0;
     size_t gt_map_points = 0, prior_map_points = 0, mesh_triangles = 0;
-    double duration = 0;     ///< [s] simulated
-    double path_length = 0;  ///< [m] travelled by the body
+    double duration = 0;                     ///< [s] simulated
+    double path_length = 0;                  ///< [m] travelled by the body
     double max_speed = 0, max_yaw_rate = 0;  ///< [m/s], [rad/s] of the trajectory
     /// Returns by the dominant axis (x, y, z, map frame) of the surface normal they hit: a
     /// crude picture of which directions the geometry constrains.
@@ -61,7 +61,7 @@ struct SimSummary {
 };
 
 class SimApp : public mrpt::system::COutputLogger {
-   public:
+ public:
     SimApp();
     /// Parses the command line; false when --help was asked (usage() is then to be printed).
     /// Throws std::runtime_error / ConfigError with a one-line reason on bad arguments.
@@ -76,7 +76,7 @@ class SimApp : public mrpt::system::COutputLogger {
     const SimConfig& config() const { return cfg_; }
     const std::string& outDir() const { return out_dir_; }
 
-   private:
+ private:
     SimConfig cfg_;
     std::string out_dir_ = "sim-out";
 };

@@ -12,11 +12,11 @@ namespace superloc::sim {
 
 /// Cells within `radius` of any of the given points (a coarse 3-D mask, cell = radius / 8).
 class NearMask {
-   public:
+ public:
     NearMask(const std::vector<Vec3d>& centres, double radius);
     bool contains(const Vec3f& p) const;
 
-   private:
+ private:
     double cell_;
     std::vector<uint64_t> keys_;  // sorted
 };

@@ -11,9 +11,9 @@
 namespace superloc::sim {
 
 struct TopViewOptions {
-    double cell = 0.25;        ///< [m] raster cell
-    double margin = 40.0;      ///< [m] shown around the trajectory's bounding box
-    int max_pixels = 1100;     ///< longest image side [px]
+    double cell = 0.25;     ///< [m] raster cell
+    double margin = 40.0;   ///< [m] shown around the trajectory's bounding box
+    int max_pixels = 1100;  ///< longest image side [px]
     std::string title;
 };
 

@@ -15,22 +15,22 @@ namespace superloc::sim {
 
 /// Section [trajectory]: the platform's motion (car, handheld, legged...).
 struct TrajectoryParams : public mrpt::config::CLoadableOptions {
-    std::string platform = "car";  ///< free text, for the docs (car, handheld, legged, wheeled)
-    double max_speed = 5.0;         ///< [m/s]
-    double max_yaw_rate_deg = 57.0; ///< [deg/s]
-    double max_accel = 2.0;         ///< [m/s^2]
-    double max_lat_accel = 5.0;     ///< [m/s^2]
-    double corner_radius = 4.0;     ///< [m] fillet radius at waypoint corners
-    double body_height = 0.5;       ///< [m] IMU (body) height above the floor it moves on
-    double knot_dt = 0.2;           ///< [s] B-spline knot spacing (smoothing time scale)
-    double pitch_follow = 1.0;      ///< [0..1] how much the body pitches with the path slope
-    double bob_amplitude = 0.0;     ///< [m] vertical gait bobbing amplitude
-    double bob_frequency = 2.0;     ///< [Hz]
-    double sway_roll_deg = 0.0;     ///< [deg] roll sway amplitude
-    double sway_pitch_deg = 0.0;    ///< [deg] pitch sway amplitude
-    double sway_yaw_deg = 0.0;      ///< [deg] yaw sway amplitude
-    double sway_frequency = 1.0;    ///< [Hz] (pitch sways at 2x, yaw at 0.5x this)
-    double ramp_time = 2.0;         ///< [s] gait fade-in after the start (starts at rest)
+    std::string platform = "car";    ///< free text, for the docs (car, handheld, legged, wheeled)
+    double max_speed = 5.0;          ///< [m/s]
+    double max_yaw_rate_deg = 57.0;  ///< [deg/s]
+    double max_accel = 2.0;          ///< [m/s^2]
+    double max_lat_accel = 5.0;      ///< [m/s^2]
+    double corner_radius = 4.0;      ///< [m] fillet radius at waypoint corners
+    double body_height = 0.5;        ///< [m] IMU (body) height above the floor it moves on
+    double knot_dt = 0.2;            ///< [s] B-spline knot spacing (smoothing time scale)
+    double pitch_follow = 1.0;       ///< [0..1] how much the body pitches with the path slope
+    double bob_amplitude = 0.0;      ///< [m] vertical gait bobbing amplitude
+    double bob_frequency = 2.0;      ///< [Hz]
+    double sway_roll_deg = 0.0;      ///< [deg] roll sway amplitude
+    double sway_pitch_deg = 0.0;     ///< [deg] pitch sway amplitude
+    double sway_yaw_deg = 0.0;       ///< [deg] yaw sway amplitude
+    double sway_frequency = 1.0;     ///< [Hz] (pitch sways at 2x, yaw at 0.5x this)
+    double ramp_time = 2.0;          ///< [s] gait fade-in after the start (starts at rest)
 
     MotionLimits limits() const;
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
@@ -48,10 +48,11 @@ struct BodyState {
 };
 
 class SmoothTrajectory {
-   public:
+ public:
     /// Knots every p.knot_dt along the path, starting at time t0 at rest; the trajectory lasts
     /// min(path.duration(), max_duration).
-    SmoothTrajectory(const DensePath& path, const TrajectoryParams& p, double t0, double max_duration);
+    SmoothTrajectory(const DensePath& path, const TrajectoryParams& p, double t0,
+                     double max_duration);
 
     double startTime() const { return t0_; }
     double endTime() const { return t_end_; }
@@ -60,7 +61,7 @@ class SmoothTrajectory {
     /// Pose only (same as at(t).T_map_body).
     SE3d pose(double t) const { return at(t).T_map_body; }
 
-   private:
+ private:
     struct Eval {
         Vec3d x, dx, ddx;
     };
