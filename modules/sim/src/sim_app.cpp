@@ -92,7 +92,7 @@ SimSummary SimApp::run() {
     const SmoothTrajectory& traj = scene.trajectory;
     sum.mesh_triangles = world.mesh.size();
     const double t0 = traj.startTime(), t1 = traj.endTime();
-    sum.duration = t1 - t0;
+    sum.duration = traj.duration();
     MRPT_LOG_INFO_STREAM("world " << world.name << ": " << world.mesh.size() << " triangles, route "
                                   << path.length() << " m, sequence " << sum.duration << " s");
     const RayCaster caster(world.mesh);
@@ -110,11 +110,12 @@ SimSummary SimApp::run() {
     std::mt19937_64 lidar_rng(streamSeed(seed, "lidar"));
     const SE3d T_imu_lidar = c.lidar.T_imu_lidar();
     const double period = c.lidar.period();
-    const size_t n_imu = static_cast<size_t>(std::floor((t1 - t0) * c.imu.rate_hz + 1e-9)) + 1;
-    const size_t n_scan = static_cast<size_t>(std::floor((t1 - t0) / period + 1e-9));
+    const size_t n_imu =
+        static_cast<size_t>(std::floor(traj.duration() * c.imu.rate_hz + 1e-9)) + 1;
+    const size_t n_scan = static_cast<size_t>(std::floor(traj.duration() / period + 1e-9));
     const size_t n_odom =
         c.odom_alt.enabled
-            ? static_cast<size_t>(std::floor((t1 - t0) * c.odom_alt.rate_hz + 1e-9)) + 1
+            ? static_cast<size_t>(std::floor(traj.duration() * c.odom_alt.rate_hz + 1e-9)) + 1
             : 0;
     Trajectory gt;
     size_t i_imu = 0, i_odom = 0, i_scan = 0;

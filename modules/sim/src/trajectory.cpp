@@ -117,7 +117,8 @@ SmoothTrajectory::SmoothTrajectory(const DensePath& path, const TrajectoryParams
     pos_ctrl_.push_back(pos_ctrl_.back());
     rpy_ctrl_.push_back(rpy_ctrl_.back());
     // Segments: ctrl.size() - 3; the last one is only partly used.
-    t_end_ = t0_ + std::min(dur, (pos_ctrl_.size() - 3) * dt_ - 1e-9);
+    duration_ = std::min(dur, (pos_ctrl_.size() - 3) * dt_ - 1e-9);
+    t_end_ = t0_ + duration_;
 }
 
 SmoothTrajectory::Eval SmoothTrajectory::spline(const std::vector<Vec3d>& c, double t) const {

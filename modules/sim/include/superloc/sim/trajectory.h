@@ -56,6 +56,8 @@ class SmoothTrajectory {
 
     double startTime() const { return t0_; }
     double endTime() const { return t_end_; }
+    /// endTime() - startTime(), exact (not rounded at the absolute time's resolution).
+    double duration() const { return duration_; }
     /// Pose and derivatives at time t (clamped to [startTime, endTime]).
     BodyState at(double t) const;
     /// Pose only (same as at(t).T_map_body).
@@ -68,7 +70,7 @@ class SmoothTrajectory {
     Eval spline(const std::vector<Vec3d>& ctrl, double t) const;
 
     TrajectoryParams p_;
-    double t0_ = 0, t_end_ = 0, dt_ = 0.2;
+    double t0_ = 0, t_end_ = 0, duration_ = 0, dt_ = 0.2;
     std::vector<Vec3d> pos_ctrl_, rpy_ctrl_;
 };
 
