@@ -105,7 +105,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     cfg_.setContent(text.str());
     for (const auto& s : sets) applyOverride(cfg_, s);
     if (!method.empty()) cfg_.write("localization", "method", method);
-    if (quiet_) setMinLoggingLevel(mrpt::system::LVL_WARN);
+    if (quiet_) setMinLoggingLevel(mrpt::system::LVL_ERROR);
 
     const std::string src = config_path_ + (sets.empty() ? "" : " (+ --set)");
     run_ = loadParams<RunParams>(cfg_, "run", src);
@@ -176,6 +176,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     Trajectory est, gt;
     io::RawlogItem item;
     static const std::vector<Vec3f> kNone;
+    bool in_divergence = false;
     while (reader.next(item)) {
         switch (item.kind) {
             case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
@@ -194,9 +195,12 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 summary_.diverged += r.diverged;
                 summary_.converged += r.converged;
                 summary_.used_imu += r.used_imu;
-                if (r.diverged)
-                    MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): diverged (%s), inlier ratio %.2f", r.index, r.t,
+                // Log divergence when it starts and ends, not on every frame of a long episode.
+                if (r.diverged != in_divergence)
+                    MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
+                                      r.diverged ? "diverged" : "tracking again",
                                       r.diverged_reason.c_str(), r.inlier_ratio);
+                in_divergence = r.diverged;
                 if (on_frame) on_frame(r);
                 break;
             }

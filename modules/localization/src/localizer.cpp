@@ -265,10 +265,21 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
 
 void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep) {
     const auto& lp = params_.loc;
+    // Divergence by jump: the solved pose far from the prediction (not on the first frame, whose
+    // "prediction" is the user's initial guess). An IMU prediction is trusted over such a
+    // registration: the frame keeps the prediction (reason "jump_rejected"), so one bad match
+    // cannot throw the velocity, and every later prediction, away.
+    const bool jump = !first && (translationDistance(cur_.T_map_imu(), pred.T_map_imu) > lp.max_jump_xyz ||
+                                 rotationAngle(cur_.T_map_imu(), pred.T_map_imu) > lp.max_jump_deg * kDeg);
+    const bool rejected = jump && pred.used_imu;
+    if (rejected) {
+        cur_.setPose(pred.T_map_imu);
+        cur_.setVelocity(pred.v);
+    }
     const SE3d T = cur_.T_map_imu();
     // Quality at the estimate from the last association (re-querying the map here would cost
     // a whole association round; NDT has none, so it associates once).
-    if (method_ == Method::Ndt) {
+    if (method_ == Method::Ndt || rejected) {
         const auto t0 = Clock::now();
         associate(pts_body_, T, *map_, assoc_, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
@@ -280,19 +291,14 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, Fra
     const InlierStats in = inlierStats(corr_, pts_body_.size(), T, lp.inlier_dist);
     rep.inlier_ratio = in.ratio;
     rep.residual_rms = in.rms;
-    // Divergence: too few inliers, or a jump away from the prediction (not on the first frame,
-    // whose "prediction" is the user's initial guess).
-    if (!rep.diverged && in.ratio < lp.min_inlier_ratio) {
+    if (jump) {
+        rep.diverged = true;
+        rep.diverged_reason = rejected ? "jump_rejected" : "jump";
+    } else if (!rep.diverged && in.ratio < lp.min_inlier_ratio) {
         rep.diverged = true;
         rep.diverged_reason = "inliers";
     }
-    if (!rep.diverged && !first &&
-        (translationDistance(T, pred.T_map_imu) > lp.max_jump_xyz ||
-         rotationAngle(T, pred.T_map_imu) > lp.max_jump_deg * kDeg)) {
-        rep.diverged = true;
-        rep.diverged_reason = "jump";
-    }
-    if (!pred.used_imu || method_ == Method::Ndt) {
+    if ((!pred.used_imu || method_ == Method::Ndt) && !rejected) {
         // Without IMU (or with NDT, which has no IMU factor to correct it) the velocity is the
         // finite difference of the estimates.
         const double dt = scan.t - prev_.t;
