@@ -40,6 +40,15 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj,
     const double cell = std::max(opt.cell, std::max(hi.x() - lo.x(), hi.y() - lo.y()) / 4000);
     const int nx = std::max(1, static_cast<int>(std::ceil((hi.x() - lo.x()) / cell)));
     const int ny = std::max(1, static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)));
+    // Walls are steep surfaces at the trajectory's heights (a cut through the world just above
+    // the sensor, so door lintels and tree crowns do not hide doors and trunks).
+    double tz_lo = -1e300, tz_hi = 1e300;
+    if (!traj.empty()) {
+        tz_lo = tz_hi = traj.front().z();
+        for (const auto& p : traj) tz_lo = std::min(tz_lo, p.z()), tz_hi = std::max(tz_hi, p.z());
+        tz_lo -= 2.0;
+        tz_hi += 0.4;
+    }
     // 0 empty, 1 floor (upward-facing), 2 wall (steep).
     std::vector<uint8_t> grid(static_cast<size_t>(nx) * ny, 0);
     const PointCloud s = sampleSurface(mesh, cell / 3, 1, [&](const Vec3f& q) {
@@ -51,10 +60,11 @@ std::string topViewSvg(const Mesh& mesh, const std::vector<Vec3d>& traj,
         if (ix < 0 || iy < 0 || ix >= nx || iy >= ny) continue;
         const float nz = s.normals[i].z();
         uint8_t& g = grid[static_cast<size_t>(iy) * nx + ix];
-        if (std::abs(nz) < 0.6f)
-            g = 2;
-        else if (nz > 0 && g == 0)
+        if (std::abs(nz) < 0.6f) {
+            if (s.points[i].z() >= tz_lo && s.points[i].z() <= tz_hi) g = 2;
+        } else if (nz > 0 && g == 0) {
             g = 1;
+        }
     }
     const double px = std::min(50.0, opt.max_pixels / (std::max(nx, ny) * cell));  // px per metre
     const double W = nx * cell * px, H = ny * cell * px + 30;
