@@ -74,7 +74,9 @@ World buildCave(const CaveParams& p, uint64_t seed, double body_height) {
             p.winding_deg * d2r *
             (0.5 * std::sin(2 * M_PI * s / 47 + ph[0]) + 0.3 * std::sin(2 * M_PI * s / 19 + ph[1]) +
              0.9 * std::sin(2 * M_PI * s / 130 + ph[2] + ph[3]));
-        const double slope = p.max_slope_deg * d2r * std::sin(2 * M_PI * s / 61 + ph[2]);
+        const double slope = p.max_slope_deg * d2r *
+                             (0.5 * std::sin(2 * M_PI * s / 61 + ph[2]) +
+                              0.5 * std::sin(2 * M_PI * s / 173 + ph[5]));
         const double wf = 0.5 + 0.5 * (0.7 * std::sin(2 * M_PI * s / 29 + ph[3]) +
                                        0.3 * std::sin(2 * M_PI * s / 11 + ph[4]));
         half_w[i] = 0.5 * (p.width_min + (p.width_max - p.width_min) * wf);
