@@ -11,7 +11,6 @@ void FeaturesParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     MRPT_LOAD_CONFIG_VAR(deskew_without_imu, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(voxel_size, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_features, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(map_points_stride, int, c, s);
     MRPT_LOAD_CONFIG_VAR(plane_max_thickness, double, c, s);
     MRPT_LOAD_CONFIG_VAR(line_min_linearity, double, c, s);
 }
@@ -23,7 +22,6 @@ void FeaturesParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_without_imu, "deskew with constant velocity when no IMU");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_size, "[m] one candidate point per voxel");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_features, "max features per scan, spread over candidates");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(map_points_stride, "every n-th candidate goes to the localized map");
     MRPT_SAVE_CONFIG_VAR_COMMENT(plane_max_thickness, "[-] map neighbourhood l3/l2 below: plane");
     MRPT_SAVE_CONFIG_VAR_COMMENT(line_min_linearity, "[-] linearity above (not plane): line feature");
 }
@@ -33,7 +31,6 @@ void FeaturesParams::validate() const {
     if (!(max_range > min_range)) throw ConfigError("[features] max_range must be > min_range");
     if (!(voxel_size > 0)) throw ConfigError("[features] voxel_size must be > 0");
     if (max_features < 10) throw ConfigError("[features] max_features must be >= 10");
-    if (map_points_stride < 1) throw ConfigError("[features] map_points_stride must be >= 1");
     if (!(plane_max_thickness >= 0 && plane_max_thickness <= 1))
         throw ConfigError("[features] plane_max_thickness must be in [0, 1]");
     if (!(line_min_linearity >= 0 && line_min_linearity <= 1))

@@ -185,7 +185,9 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
             case io::RawlogItem::Kind::Lidar: {
                 const FrameReport r = loc.process(item.scan());
                 const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
-                out.addFrame(r, T, run_.save_localized_map ? loc.lastMapPoints() : kNone);
+                out.addFrame(r, T, run_.save_localized_map
+                                       ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
+                                       : kNone);
                 est.push_back({r.t, T, {}});
                 ms.push_back(r.ms.total);
                 cpu.push_back(r.ms.total_cpu);

@@ -124,11 +124,9 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     pts_body_.resize(deskewed_.size());
     for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
 
-    // Candidates kept for the localized map (lidar frame now, map frame after the solve).
-    map_idx_.clear();
-    for (size_t i = 0; i < candidates_.size(); i += static_cast<size_t>(fp.map_points_stride))
-        map_idx_.push_back(candidates_[i]);
-    features::deskewPoints(scan.points, scan.rel_time, map_idx_, motion, map_points_);
+    // NDT registers every voxel candidate, as hdl_localization feeds it a voxelized scan.
+    if (method_ == Method::Ndt) features::deskewPoints(scan.points, scan.rel_time, candidates_, motion, ndt_source_);
+    last_motion_ = motion;
 }
 
 std::vector<risk::Correspondence> Localizer::riskInputs(const SE3d& T, const Vec3d& origin) const {
@@ -254,8 +252,7 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
-    // NDT gets every voxel candidate (deskewed), as hdl_localization feeds it a voxelized scan.
-    const AlignResult a = ndt_->align(map_points_, guess);
+    const AlignResult a = ndt_->align(ndt_source_, guess);
     rep.ms.solve += msSince(t0);
     rep.rounds = 1;
     rep.iterations = a.iterations;
@@ -309,8 +306,16 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, Fra
     rep.T_map_lidar = T * scan.T_imu_lidar;
     rep.velocity = cur_.velocity();
     rep.bias = cur_.bias();
-    const SE3d T_ml = rep.T_map_lidar;
-    for (auto& p : map_points_) p = (T_ml * p.cast<double>()).cast<float>();
+    last_T_map_lidar_ = rep.T_map_lidar;
+}
+
+const std::vector<Vec3f>& Localizer::mapPoints(const Scan& scan, double voxel) {
+    // The valid points of the last scan, voxel-selected, deskewed like its features, in the map
+    // frame at its estimate.
+    map_selector_.select(scan.points, valid_, static_cast<float>(voxel), map_idx_);
+    features::deskewPoints(scan.points, scan.rel_time, map_idx_, last_motion_, map_points_);
+    for (auto& p : map_points_) p = (last_T_map_lidar_ * p.cast<double>()).cast<float>();
+    return map_points_;
 }
 
 FrameReport Localizer::process(const Scan& scan) {

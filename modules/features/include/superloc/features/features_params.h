@@ -16,7 +16,6 @@ struct FeaturesParams : public mrpt::config::CLoadableOptions {
     bool deskew_without_imu = false;
     double voxel_size = 0.5;    ///< [m] one candidate point per voxel of this size
     int max_features = 2000;    ///< cap on features per scan, taken evenly over the candidates
-    int map_points_stride = 1;  ///< keep every n-th candidate for the localized map output
     /// classification of a neighbourhood from its PCA shape factors (see classify.h)
     double plane_max_thickness = 0.5;  ///< [-] l3/l2 below this: plane
     double line_min_linearity = 0.7;   ///< [-] linearity above this (and not a plane): line

@@ -10,6 +10,7 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/system/COutputLogger.h>
+#include <superloc/features/deskew.h>
 #include <superloc/features/features_params.h>
 #include <superloc/features/voxel_selector.h>
 #include <superloc/fusion/frame_problem.h>
@@ -59,9 +60,10 @@ class Localizer : public mrpt::system::COutputLogger {
     /// Runs the pipeline on one scan; never throws for bad data (see FrameReport::diverged).
     FrameReport process(const Scan& scan);
 
-    /// Deskewed voxel candidates of the last processed scan, in the map frame at its estimate
-    /// (every features.map_points_stride-th), for the localized map output.
-    const std::vector<Vec3f>& lastMapPoints() const { return map_points_; }
+    /// For the localized map output, called right after process(scan) with the same scan: its
+    /// valid points, one per `voxel` [m], deskewed, in the map frame at the estimate. Kept out
+    /// of process() so that the frame's time is the localization's alone.
+    const std::vector<Vec3f>& mapPoints(const Scan& scan, double voxel);
     const LocalizerParams& params() const { return params_; }
     Method method() const { return method_; }
 
@@ -104,9 +106,11 @@ class Localizer : public mrpt::system::COutputLogger {
     size_t frames_ = 0;
 
     // Per-frame scratch (kept to avoid allocations in the hot path).
-    features::VoxelSelector selector_;
+    features::VoxelSelector selector_, map_selector_;
+    features::SweepMotion last_motion_;
+    SE3d last_T_map_lidar_ = SE3d::Identity();
     std::vector<uint32_t> valid_, candidates_, feature_idx_, map_idx_;
-    std::vector<Vec3f> deskewed_, map_points_;
+    std::vector<Vec3f> deskewed_, map_points_, ndt_source_;
     std::vector<Vec3d> pts_body_;
     std::vector<fusion::ScanCorrespondence> corr_;
     AssociationStats last_stats_;
