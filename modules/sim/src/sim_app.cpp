@@ -67,6 +67,17 @@ void SimApp::initialize(SimConfig cfg, const std::string& out_dir) {
     out_dir_ = out_dir;
 }
 
+namespace {
+
+// The two small text outputs (io has no writer for SVG or INI text).
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream f(path, std::ios::binary);
+    f << text;
+    if (!f) throw std::runtime_error(path + ": cannot write");
+}
+
+}  // namespace
+
 SimScene makeScene(const SimConfig& c) {
     World world;
     try {
@@ -194,7 +205,7 @@ SimSummary SimApp::run() {
                "): " + std::to_string(static_cast<int>(std::round(sum.path_length))) + " m in " +
                std::to_string(static_cast<int>(std::round(sum.duration))) + " s, " +
                c.trajectory.platform;
-    std::ofstream(out("topview.svg")) << topViewSvg(world.mesh, positions, tv);
+    writeText(out("topview.svg"), topViewSvg(world.mesh, positions, tv));
     {
         SimConfig eff = c;
         c.sim.saveToConfigFile(eff.ini, "sim");
@@ -204,7 +215,7 @@ SimSummary SimApp::run() {
         lidar.saveToConfigFile(eff.ini, "lidar");
         c.imu.saveToConfigFile(eff.ini, "imu");
         c.odom_alt.saveToConfigFile(eff.ini, "odom_alt");
-        std::ofstream(out("config.ini")) << eff.ini.getContent();
+        writeText(out("config.ini"), eff.ini.getContent());
     }
     if (on_progress) on_progress(1.0);
     MRPT_LOG_INFO_FMT("travelled %.1f m in %.1f s, max %.2f m/s and %.1f deg/s yaw rate",
