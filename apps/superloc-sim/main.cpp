@@ -14,6 +14,10 @@ int main(int argc, char** argv) {
             std::cout << superloc::sim::SimApp::usage();
             return 0;
         }
+        if (app.dumpConfig()) {
+            std::cout << superloc::sim::effectiveConfig(app.config());
+            return 0;
+        }
         if (isatty(STDERR_FILENO))
             app.on_progress = [](double f) {
                 std::cerr << "\r" << mrpt::system::progress(f, 40) << ' '

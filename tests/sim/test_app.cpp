@@ -40,6 +40,11 @@ TEST(SimAppExe, HelpAndErrors) {
     EXPECT_NE(help.out.find("Usage: superloc-sim CONFIG.ini"), std::string::npos) << help.out;
 
     const std::string ini = superloc::testing::sourcePath("ini/sim/office.ini");
+    const AppRun dump = runApp(ini + " --dump-config --set imu.rate_hz=400");
+    EXPECT_EQ(dump.code, 0) << dump.out;
+    for (const char* sect : {"[sim]", "[trajectory]", "[lidar]", "[imu]", "[odom_alt]", "[office]"})
+        EXPECT_NE(dump.out.find(sect), std::string::npos) << sect;
+    EXPECT_NE(dump.out.find("400.0"), std::string::npos) << dump.out;
     for (const std::string& bad :
          {std::string("/no/such.ini"), ini + " --set lidar.beamz=3", ini + " --seed x",
           ini + " --set office.door_width=9", std::string(""), ini + " --bogus"}) {

@@ -39,7 +39,9 @@ bool SimApp::initialize(int argc, const char* const* argv) {
             return argv[++i];
         };
         if (a == "--help" || a == "-h") return false;
-        if (a == "--out")
+        if (a == "--dump-config")
+            dump_config_ = true;
+        else if (a == "--out")
             out = value();
         else if (a == "--seed")
             seed = value();
@@ -77,6 +79,29 @@ void writeText(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+std::string effectiveConfig(const SimConfig& c) {
+    mrpt::config::CConfigFileMemory eff;
+    c.sim.saveToConfigFile(eff, "sim");
+    c.trajectory.saveToConfigFile(eff, "trajectory");
+    LidarParams lidar = c.lidar;
+    lidar.preset.clear();  // its keys are all written here
+    lidar.saveToConfigFile(eff, "lidar");
+    c.imu.saveToConfigFile(eff, "imu");
+    c.odom_alt.saveToConfigFile(eff, "odom_alt");
+    std::string text =
+        "# superloc-sim: effective configuration of " + c.source + "\n" + eff.getContent();
+    // World sections as given (their Params are built and checked by the world builders).
+    for (const auto& w : worldNames()) {
+        if (!c.ini.sectionExists(w)) continue;
+        std::vector<std::string> keys;
+        c.ini.getAllKeys(w, keys);
+        text += "\n[" + w + "]\n";
+        for (const auto& k : keys)
+            text += stripIniValue(k) + " = " + stripIniValue(c.ini.read_string(w, k, "")) + "\n";
+    }
+    return text;
+}
 
 SimScene makeScene(const SimConfig& c) {
     World world;
@@ -206,17 +231,7 @@ SimSummary SimApp::run() {
                std::to_string(static_cast<int>(std::round(sum.duration))) + " s, " +
                c.trajectory.platform;
     writeText(out("topview.svg"), topViewSvg(world.mesh, positions, tv));
-    {
-        SimConfig eff = c;
-        c.sim.saveToConfigFile(eff.ini, "sim");
-        c.trajectory.saveToConfigFile(eff.ini, "trajectory");
-        LidarParams lidar = c.lidar;
-        lidar.preset.clear();  // its keys are all written below
-        lidar.saveToConfigFile(eff.ini, "lidar");
-        c.imu.saveToConfigFile(eff.ini, "imu");
-        c.odom_alt.saveToConfigFile(eff.ini, "odom_alt");
-        writeText(out("config.ini"), eff.ini.getContent());
-    }
+    writeText(out("config.ini"), effectiveConfig(c));
     if (on_progress) on_progress(1.0);
     MRPT_LOG_INFO_FMT("travelled %.1f m in %.1f s, max %.2f m/s and %.1f deg/s yaw rate",
                       sum.path_length, sum.duration, sum.max_speed, sum.max_yaw_rate * 180 / M_PI);

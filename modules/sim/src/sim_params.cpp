@@ -1,4 +1,5 @@
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
 #include <superloc/core/config.h>
 #include <superloc/sim/sim_params.h>
 
@@ -23,7 +24,9 @@ void SimParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
             mrpt::config::MRPT_SAVE_VALUE_PADDING(),
             "random parts of the world and all noise (--seed)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(duration, "[s] sequence length (shorter if the route ends first)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(start_time, "[s] timestamp of the first sample (UNIX time)");
+    c.write(s, "start_time", mrpt::format("%.6f", start_time),
+            mrpt::config::MRPT_SAVE_NAME_PADDING(), mrpt::config::MRPT_SAVE_VALUE_PADDING(),
+            "[s] timestamp of the first sample (UNIX time)");  // full precision
     MRPT_SAVE_CONFIG_VAR_COMMENT(gt_map_spacing, "[m] survey-map surface sampling");
     MRPT_SAVE_CONFIG_VAR_COMMENT(gt_map_max_distance,
                                  "[m] surveyed surfaces: this close to the path");

@@ -38,6 +38,10 @@ struct SimConfig {
 /// file's own [lidar] keys). Throws ConfigError, one line naming the file and key.
 SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::string>& overrides);
 
+/// The effective configuration as INI text: every key of [sim] [trajectory] [lidar] [imu]
+/// [odom_alt] with units in comments (the preset merged in), plus the world sections as given.
+std::string effectiveConfig(const SimConfig& cfg);
+
 /// The world and the platform's motion of a configuration (what run() simulates; tests use it
 /// to check the outputs against the exact trajectory).
 struct SimScene {
@@ -75,10 +79,13 @@ class SimApp : public mrpt::system::COutputLogger {
     std::function<void(double)> on_progress;
     const SimConfig& config() const { return cfg_; }
     const std::string& outDir() const { return out_dir_; }
+    /// --dump-config was given: print effectiveConfig(config()) instead of running.
+    bool dumpConfig() const { return dump_config_; }
 
  private:
     SimConfig cfg_;
     std::string out_dir_ = "sim-out";
+    bool dump_config_ = false;
 };
 
 }  // namespace superloc::sim
