@@ -162,7 +162,7 @@ Scan simulateSweep(const RayCaster& caster, const Mesh& mesh, const SmoothTrajec
             // Intensity: Lambertian return of the surface reflectivity, fading with range.
             const double refl = mesh.reflectivity[h.triangle];
             scan.intensity.push_back(
-                static_cast<float>(255.0 * refl * cos_inc / (1.0 + (r / 50.0) * (r / 50.0))));
+                static_cast<float>(refl * cos_inc / (1.0 + (r / 50.0) * (r / 50.0))));
             scan.rel_time.push_back(static_cast<float>(rel));
             if (normals_map) normals_map->push_back(h.normal.cast<float>());
         }
