@@ -65,6 +65,10 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
         if (!with_imu) problem.SetParameterBlockConstant(prev.pose);
     }
 
+    if (in.cur_pose_prior)
+        problem.AddResidualBlock(
+            PosePriorFactor::Create(in.cur_pose_prior->first, in.cur_pose_prior->second), nullptr, cur.pose);
+
     SolveSummary out;
     if (problem.NumResidualBlocks() == 0) return out;
     ceres::Solver::Options opt;

@@ -248,16 +248,34 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool first, FrameReport
     if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
 }
 
-void Localizer::solveNdt(const SE3d& T_imu_lidar, FrameReport& rep) {
+void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
     const AlignResult a = ndt_->align(ndt_source_, guess);
-    rep.ms.solve += msSince(t0);
     rep.rounds = 1;
     rep.iterations = a.iterations;
     rep.converged = a.converged;
-    cur_.setPose(a.T_target_source * T_imu_lidar.inverse());
+    const SE3d T_ndt = a.T_target_source * T_imu_lidar.inverse();
+    cur_.setPose(T_ndt);
+    if (pre) {
+        // Loosely coupled, like hdl_localization's filter: the NDT pose as a measurement
+        // (sigma scan_sigma, 0.5 deg) with the IMU factor, for velocity and biases.
+        Mat6d w = Mat6d::Zero();
+        w.diagonal().head<3>().setConstant(1.0 / params_.fusion.scan_sigma);
+        w.diagonal().tail<3>().setConstant(1.0 / (0.5 * kDeg));
+        fusion::FrameProblemInputs in;
+        in.prev = &prev_;
+        in.cur = &cur_;
+        in.imu = pre;
+        in.g_map = g_map_;
+        in.acc_bias_rw = params_.imu.acc_bias_rw;
+        in.gyro_bias_rw = params_.imu.gyro_bias_rw;
+        in.cur_pose_prior = std::make_pair(T_ndt, w);
+        const auto sum = fusion::solveFrame(in, params_.fusion);
+        rep.iterations += sum.iterations;
+    }
+    rep.ms.solve += msSince(t0);
 }
 
 void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep) {
@@ -295,9 +313,8 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, Fra
         rep.diverged = true;
         rep.diverged_reason = "inliers";
     }
-    if ((!pred.used_imu || method_ == Method::Ndt) && !rejected) {
-        // Without IMU (or with NDT, which has no IMU factor to correct it) the velocity is the
-        // finite difference of the estimates.
+    if (!pred.used_imu && !rejected) {
+        // Without IMU the velocity is the finite difference of the estimates.
         const double dt = scan.t - prev_.t;
         cur_.setVelocity(have_prev_ && dt > 0 ? Vec3d((T.translation() - prev_.T_map_imu().translation()) / dt)
                                               : Vec3d::Zero());
@@ -363,7 +380,7 @@ FrameReport Localizer::process(const Scan& scan) {
 
     // Steps 3-5: association, risk, solve.
     if (method_ == Method::Ndt) {
-        solveNdt(scan.T_imu_lidar, rep);
+        solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
     } else {
         solveIcp(pred.used_imu ? &pre : nullptr, first, rep);
     }

@@ -26,6 +26,9 @@ struct FrameProblemInputs {
     Vec3d g_map = Vec3d(0, 0, -9.81);
     double acc_bias_rw = 0.001, gyro_bias_rw = 0.0001;  ///< see ImuParams
     std::optional<RelativePosePrior> prior;
+    /// Absolute prior on the current pose, e.g. a registration result from outside this
+    /// problem (method=ndt fuses PCL's NDT pose with the IMU factor this way).
+    std::optional<std::pair<SE3d, Mat6d>> cur_pose_prior;  ///< T_map_imu, 6x6 sqrt-information
 };
 
 struct SolveSummary {

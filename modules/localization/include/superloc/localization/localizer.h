@@ -78,7 +78,7 @@ class Localizer : public mrpt::system::COutputLogger {
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
     void solveIcp(const imu::Preintegration* pre, bool first, FrameReport& rep);
-    void solveNdt(const SE3d& T_imu_lidar, FrameReport& rep);
+    void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
     /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
     /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
