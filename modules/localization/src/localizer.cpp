@@ -76,6 +76,7 @@ Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
         pr.T_map_imu = nav.pose();
         pr.v = nav.v;
         pr.used_imu = true;
+        pr.twist_from_imu = true;
         // Deskew twist: mean rate over the interval since the last scan (one sweep at the
         // sensor's rate), velocity in the body frame.
         pr.w_body = logSO3(pre.correctedDeltaR(prev_.bias())) / pre.dt();
@@ -109,7 +110,7 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
     features::SweepMotion motion;
-    if (fp.deskew && (pred.used_imu || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
+    if (fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
         !scan.empty()) {
         const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
         if (s_min < 0) {
@@ -322,6 +323,17 @@ FrameReport Localizer::process(const Scan& scan) {
         }
         cur_ = fusion::FrameState{};
         cur_.setBias(b);
+        // Deskew the first sweep by the gyro alone (the velocity is not known yet).
+        if (params_.loc.use_imu && !scan.rel_time.empty()) {
+            const double s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
+            imu::Preintegration sweep(b);
+            if (s_min < 0 && !imu_.empty() && imu_.front().t <= scan.t + s_min + 0.05 &&
+                imu_.back().t >= scan.t - 0.05 &&
+                imu::integrateInterval(imu_, scan.t + s_min, scan.t, sweep) > 0) {
+                pred.w_body = logSO3(sweep.deltaR()) / sweep.dt();
+                pred.twist_from_imu = true;
+            }
+        }
     } else {
         pred = predict(scan.t, pre);
         cur_ = prev_;

@@ -73,7 +73,8 @@ class Localizer : public mrpt::system::COutputLogger {
         Vec3d v = Vec3d::Zero();
         Vec3d w_body = Vec3d::Zero();   ///< [rad/s] angular rate for deskew
         Vec3d v_body = Vec3d::Zero();   ///< [m/s] body-frame velocity for deskew
-        bool used_imu = false;
+        bool used_imu = false;        ///< pose predicted by IMU preintegration
+        bool twist_from_imu = false;  ///< deskew twist measured by the IMU
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
