@@ -138,6 +138,10 @@ TEST_F(KittiFixture, CommandLineContract) {
     fails({"--method", "superloc"}, "not implemented yet");
     fails({"--method", "gicp"}, "gicp");
     fails({"--initial-pose-tum", dir + "/none.tum"}, "none.tum");
+    {
+        std::ofstream empty(dir + "/empty.xyz");  // a map file without points
+    }
+    fails({"--map", dir + "/empty.xyz"}, "empty.xyz");
 }
 
 TEST_F(KittiFixture, ExecutableExitCodes) {

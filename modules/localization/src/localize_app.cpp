@@ -161,6 +161,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     auto prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
     MRPT_LOG_INFO_FMT("map %s: %zu points, prepared in %.2f s", run_.map.c_str(), prior->size(),
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count());
+    if (prior->size() == 0) throw ConfigError(run_.map + ": the map has no points");
     Localizer loc(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
     if (T0) loc.setInitialPose(*T0);
