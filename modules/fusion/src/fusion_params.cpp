@@ -15,6 +15,7 @@ void FusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
     MRPT_LOAD_CONFIG_VAR(prev_velocity_sigma, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prev_acc_bias_sigma, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prev_gyro_bias_sigma, double, c, s);
+    active.loadFromConfigFile(c, s);
 }
 
 void FusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -27,6 +28,7 @@ void FusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_velocity_sigma, "[m/s] prior on the previous velocity");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_acc_bias_sigma, "[m/s^2] prior on the previous acc bias");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_gyro_bias_sigma, "[rad/s] prior on the previous gyro bias");
+    active.saveToConfigFile(c, s);
 }
 
 void FusionParams::validate() const {
@@ -41,6 +43,7 @@ void FusionParams::validate() const {
     positive(prev_velocity_sigma, "prev_velocity_sigma");
     positive(prev_acc_bias_sigma, "prev_acc_bias_sigma");
     positive(prev_gyro_bias_sigma, "prev_gyro_bias_sigma");
+    active.validate();
     try {
         robustKernelFromString(robust_kernel);
     } catch (const std::exception& e) {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <superloc/fusion/prior_weight.h>
 
 #include <string>
 
@@ -19,6 +20,8 @@ struct FusionParams : public mrpt::config::CLoadableOptions {
     double prev_velocity_sigma = 0.5;       ///< [m/s]
     double prev_acc_bias_sigma = 0.05;      ///< [m/s^2]
     double prev_gyro_bias_sigma = 0.002;    ///< [rad/s]
+    /// Prior of the active-fusion methods (superloc, passive, eigen_remap), same section.
+    ActiveFusionParams active;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;

@@ -1,0 +1,69 @@
+// Active sensor fusion (paper §III-C, DESIGN §5): the information of the relative-pose prior
+// from the alignment risk, and the two comparison variants of DESIGN §6.
+//
+//   superloc:    W = diag(max(0, 1 - gamma_k) * s_k)        (paper: Cov_prior = I - Sigma_cov)
+//                s_k = tr(H_group) / 3, H = scan information in body coordinates (doc/method.md §2)
+//   passive:     W = diag(1/sigma_xyz^2 (x3), 1/sigma_rot^2 (x3)), always on
+//   eigen_remap: Zhang et al. 2016 solution remapping: the update is projected onto the
+//                eigenvectors of H whose eigenvalue is above a threshold; the reference pose
+//                (odom_alt or the prediction) supplies the rest.
+//
+// All 6-vectors in (x y z roll pitch yaw) order, body (right-perturbation) coordinates: a pose
+// T perturbed by d is T * Exp(d), the convention of RelativePoseFactor's residual.
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <superloc/core/types.h>
+#include <superloc/fusion/scan_factor.h>
+
+#include <vector>
+
+namespace superloc::fusion {
+
+/// Keys of section [fusion] for the prior of the active-fusion methods.
+struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
+    double prior_scale = 1.0;            ///< [-] multiplies s_k (superloc)
+    double passive_sigma_xyz = 0.05;     ///< [m] per-frame std of the passive prior's translation
+    double passive_sigma_rot_deg = 0.5;  ///< [deg] per-frame std of its rotation
+    /// [-] eigen_remap: eigenvalue threshold on H / sum(w) (mean information per correspondence,
+    /// sigma removed: translation eigenvalues are shares in [0, 1], rotation ones m^2)
+    double eigen_threshold = 0.05;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    /// Throws ConfigError naming [fusion] and the key when a value is out of range.
+    void validate() const;
+};
+
+/// Information of the scan residuals w.r.t. a body perturbation of T_map_imu:
+/// H = sum_i w_i / sigma^2 J_i^T J_i (the Gauss-Newton Hessian of paper eq. 1 / 12's scan term).
+/// w_i = fit weight * robust weight when `sqrt_w` (ScanFactor::sqrtWeights, squared) is given,
+/// else the fit weight alone.
+Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T_map_imu,
+                      double sigma, const std::vector<double>* sqrt_w = nullptr);
+
+/// s_k = tr(H_tt) / 3 for x, y, z and tr(H_rr) / 3 for roll, pitch, yaw: the mean information
+/// one axis of the group receives from the scan.
+Vec6d priorScale(const Mat6d& H);
+
+/// W_k = max(0, 1 - gamma_k) * s_k (DESIGN §5; paper Cov_prior = I - Sigma_cov read as weight).
+Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s);
+
+/// The passive prior's constant information (diagonal).
+Vec6d passiveInformation(const ActiveFusionParams& p);
+
+/// sqrt of a diagonal information, as RelativePoseFactor's 6x6 sqrt_info.
+Mat6d sqrtInfo(const Vec6d& W);
+
+struct RemapResult {
+    SE3d T = SE3d::Identity();   ///< remapped pose
+    int removed = 0;             ///< eigen-directions below the threshold
+    Vec6d prior_share = Vec6d::Zero();  ///< diag of the projector onto the removed subspace
+};
+
+/// Zhang et al. 2016 solution remapping. d = Log(T_ref^-1 T_solved) (toVec6) is projected onto
+/// the eigenvectors of H_norm with eigenvalue >= threshold: T = T_ref Exp(V_f V_f^T d).
+RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H_norm,
+                       double threshold);
+
+}  // namespace superloc::fusion

@@ -1,0 +1,111 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/core/se3.h>
+#include <superloc/fusion/prior_weight.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace superloc::fusion {
+
+void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                            const std::string& s) {
+    MRPT_LOAD_CONFIG_VAR(prior_scale, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(passive_sigma_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(passive_sigma_rot_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(eigen_threshold, double, c, s);
+}
+
+void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                          const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_scale, "[-] superloc: multiplies s_k of W = (1-gamma) s");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold,
+                                 "[-] eigen_remap: min eigenvalue of H / sum(w)");
+}
+
+void ActiveFusionParams::validate() const {
+    const auto positive = [](double v, const char* key) {
+        if (!(v > 0)) throw ConfigError(std::string("[fusion] ") + key + " must be > 0");
+    };
+    if (!(prior_scale >= 0)) throw ConfigError("[fusion] prior_scale must be >= 0");
+    positive(passive_sigma_xyz, "passive_sigma_xyz");
+    positive(passive_sigma_rot_deg, "passive_sigma_rot_deg");
+    if (!(eigen_threshold >= 0)) throw ConfigError("[fusion] eigen_threshold must be >= 0");
+}
+
+Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T, double sigma,
+                      const std::vector<double>* sqrt_w) {
+    // The scan factor's analytic Jacobian is w.r.t. PoseManifold's [dt (map), dtheta (body)];
+    // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0 I].
+    const Mat3d R = T.linear();
+    Mat6d H = Mat6d::Zero();
+    double r[3], J[18];
+    for (size_t i = 0; i < corr.size(); ++i) {
+        const double w = sqrt_w && i < sqrt_w->size() ? (*sqrt_w)[i] * (*sqrt_w)[i]
+                                                      : std::max(0.0, corr[i].weight);
+        if (!(w > 0)) continue;
+        correspondenceResidual(corr[i], R, T.translation(), r, J);
+        const int d = residualDim(corr[i].type);
+        for (int k = 0; k < d; ++k) {
+            Vec6d row = Eigen::Map<const Vec6d>(J + 6 * k);
+            row.head<3>() = R.transpose() * row.head<3>();
+            H.noalias() += w * row * row.transpose();
+        }
+    }
+    return H / (sigma * sigma);
+}
+
+Vec6d priorScale(const Mat6d& H) {
+    Vec6d s;
+    s.head<3>().setConstant(H.topLeftCorner<3, 3>().trace() / 3.0);
+    s.tail<3>().setConstant(H.bottomRightCorner<3, 3>().trace() / 3.0);
+    return s;
+}
+
+Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s) {
+    // DESIGN §5: W = diag(max(0, 1 - gamma_k)) s_k.
+    Vec6d W;
+    for (int k = 0; k < 6; ++k) W[k] = std::max(0.0, 1.0 - gamma[k]) * std::max(0.0, s[k]);
+    return W;
+}
+
+Vec6d passiveInformation(const ActiveFusionParams& p) {
+    const double st = p.passive_sigma_xyz, sr = p.passive_sigma_rot_deg * M_PI / 180.0;
+    Vec6d W;
+    W << Vec3d::Constant(1.0 / (st * st)), Vec3d::Constant(1.0 / (sr * sr));
+    return W;
+}
+
+Mat6d sqrtInfo(const Vec6d& W) {
+    Mat6d S = Mat6d::Zero();
+    for (int k = 0; k < 6; ++k) S(k, k) = std::sqrt(std::max(0.0, W[k]));
+    return S;
+}
+
+RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H_norm,
+                       double threshold) {
+    // Zhang, Kaess, Singh 2016, eq. (8)-(10): x_f = V_f^-1 V_u x_u, with V the eigenvectors of
+    // the (symmetric) Hessian as rows and V_f = V with the rows of eigenvalues below the
+    // threshold zeroed; V orthonormal gives x_f = V^T diag(mask) V x_u.
+    Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (H_norm + H_norm.transpose()));
+    const Vec6d d = toVec6(T_ref.inverse() * T_solved);
+    Mat6d P_keep = Mat6d::Zero(), P_removed = Mat6d::Zero();
+    RemapResult out;
+    for (int k = 0; k < 6; ++k) {
+        const Vec6d v = es.eigenvectors().col(k);
+        if (es.eigenvalues()[k] >= threshold) {
+            P_keep += v * v.transpose();
+        } else {
+            P_removed += v * v.transpose();
+            ++out.removed;
+        }
+    }
+    out.T = T_ref * fromVec6(P_keep * d);
+    out.prior_share = P_removed.diagonal();
+    return out;
+}
+
+}  // namespace superloc::fusion
