@@ -33,9 +33,6 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
       g_map_(0, 0, -params.imu.gravity) {
-    if (method_ == Method::SuperLoc || method_ == Method::Passive || method_ == Method::EigenRemap)
-        throw ConfigError(std::string("[localization] method = ") + methodName(method_) +
-                          " is not implemented yet (alignment-risk fusion, issue 5); use icp or ndt");
     if (!map_ || map_->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     assoc_.max_dist = params.loc.max_corr_dist;
     assoc_.plane_max_thickness = params.features.plane_max_thickness;
@@ -194,6 +191,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool first, FrameReport
             rep.diverged_reason = "solver";
             break;
         }
+        if (method_ == Method::EigenRemap) remapUpdate(prev_saved, T_before, scan, rep);
         const SE3d T_after = cur_.T_map_imu();
         const bool small = translationDistance(T_before, T_after) < lp.converged_xyz &&
                            rotationAngle(T_before, T_after) < lp.converged_deg * kDeg;
@@ -211,6 +209,17 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool first, FrameReport
 
 void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
+    // The alignment risk is reported for ndt too (not used): correspondences at the prediction.
+    auto ta = Clock::now();
+    associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+    rep.ms.associate += msSince(ta);
+    ta = Clock::now();
+    const auto risk =
+        risk::computeAlignmentRisk(riskInputs(cur_.T_map_imu(), T_imu_lidar.translation()), params_.risk);
+    rep.gamma = risk.gamma;
+    rep.degenerate = risk.degenerate;
+    rep.degenerate_axes = risk::degenerateAxes(risk);
+    rep.ms.risk += msSince(ta);
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
     const AlignResult a = ndt_->align(ndt_source_, guess);

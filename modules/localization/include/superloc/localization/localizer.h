@@ -64,6 +64,10 @@ class Localizer : public mrpt::system::COutputLogger {
     /// valid points, one per `voxel` [m], deskewed, in the map frame at the estimate. Kept out
     /// of process() so that the frame's time is the localization's alone.
     const std::vector<Vec3f>& mapPoints(const Scan& scan, double voxel);
+    /// For the observability scan (paper Fig. 4), called after process(): the last frame's
+    /// correspondence points in the map frame at the estimate, with their translation label
+    /// (0 x, 1 y, 2 z, risk::kNoLabel) from the risk rule at that pose. Outside the frame timing.
+    void observabilityPoints(std::vector<Vec3f>& points, std::vector<int8_t>& labels) const;
     const LocalizerParams& params() const { return params_; }
     Method method() const { return method_; }
 
@@ -87,6 +91,14 @@ class Localizer : public mrpt::system::COutputLogger {
     std::optional<SE3d> odomAltDelta(double t0, double t1) const;
     /// Issue 5 hook: the relative-pose prior for the current solve (none for icp / ndt).
     std::optional<fusion::RelativePosePrior> activePrior(const risk::RiskReport& risk) const;
+    /// eigen_remap (Zhang et al. 2016), after each round's solve: projects the update onto the
+    /// scan Hessian's well-constrained eigen-directions; odom_alt (else the round's start pose)
+    /// supplies the rest (eigen_remap.cpp).
+    void remapUpdate(const fusion::FrameState& prev_saved, const SE3d& T_before,
+                     const fusion::ScanFactor& scan, FrameReport& rep);
+    /// The odom_alt delta for the current frame, logging when odom_alt is absent or a gap
+    /// starts / ends (once per episode, not per frame).
+    std::optional<SE3d> odomAltForFrame() const;
     std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
 
     LocalizerParams params_;
@@ -115,6 +127,7 @@ class Localizer : public mrpt::system::COutputLogger {
     std::vector<Vec3d> pts_body_;
     std::vector<fusion::ScanCorrespondence> corr_;
     AssociationStats last_stats_;
+    mutable int odom_alt_state_ = 0;  ///< 0 not checked yet, 1 available, -1 missing (logged)
 };
 
 }  // namespace superloc::localization
