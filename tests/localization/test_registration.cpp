@@ -102,15 +102,3 @@ TEST(Registration, NdtRecoversRelativePoseToo) {
     EXPECT_LT(translationDistance(r.T_map_lidar, T_first_second), 0.1);
     EXPECT_LT(rotationAngle(r.T_map_lidar, T_first_second) * 180 / M_PI, 1.0);
 }
-
-TEST(Localizer, PendingMethodsAreConfigErrors) {
-    map::MapParams mp;
-    PointCloud c;
-    for (int i = 0; i < 100; ++i) c.points.emplace_back(0.1f * i, 0.0f, 0.0f);
-    auto m = std::make_shared<map::PriorMap>(c, mp);
-    for (const char* name : {"superloc", "passive", "eigen_remap"}) {
-        LocalizerParams p;
-        p.loc.method = name;
-        EXPECT_THROW(Localizer(p, m), superloc::ConfigError) << name;
-    }
-}

@@ -23,8 +23,8 @@ namespace superloc::fusion {
 /// Keys of section [fusion] for the prior of the active-fusion methods.
 struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     double prior_scale = 1.0;            ///< [-] multiplies s_k (superloc)
-    double passive_sigma_xyz = 0.05;     ///< [m] per-frame std of the passive prior's translation
-    double passive_sigma_rot_deg = 0.5;  ///< [deg] per-frame std of its rotation
+    double passive_sigma_xyz = 0.02;     ///< [m] per-frame std of the passive prior's translation
+    double passive_sigma_rot_deg = 0.2;  ///< [deg] per-frame std of its rotation
     /// [-] eigen_remap: eigenvalue threshold on H / sum(w) (mean information per correspondence,
     /// sigma removed: translation eigenvalues are shares in [0, 1], rotation ones m^2)
     double eigen_threshold = 0.05;
