@@ -258,10 +258,12 @@ struct CorridorRun {
     double first_err_x = 0, max_err_x = 0, max_err_yz = 0;
     size_t frames = 0, prior_used = 0, flagged_x = 0;
     Vec6d last_prior_w = Vec6d::Zero();
+    std::vector<int> prior_frames;
 };
 
+/// odom_alt is left out for t in (gap_from, gap_to).
 CorridorRun runCorridor(const std::shared_ptr<map::PriorMap>& map, const std::string& method,
-                        bool odom_alt) {
+                        bool odom_alt, double gap_from = 1e9, double gap_to = 1e9) {
     localization::LocalizerParams p;
     p.loc.method = method;
     p.features.voxel_size = 0.3;
@@ -273,7 +275,8 @@ CorridorRun runCorridor(const std::shared_ptr<map::PriorMap>& map, const std::st
         const double t = 0.1 * k;
         if (odom_alt)  // 20 Hz, in its own frame (offset from the map)
             for (double to = t - 0.1 + 0.05; to <= t + 1e-9; to += 0.05)
-                loc.addOdomAlt({to, makePoseRPY(5, -3, 1, 0, 0, 1.0) * corridorMotion(to), std::nullopt});
+                if (to <= gap_from || to >= gap_to)
+                    loc.addOdomAlt({to, makePoseRPY(5, -3, 1, 0, 0, 1.0) * corridorMotion(to), std::nullopt});
         const SE3d truth = corridorMotion(t);
         const auto r = loc.process(corridorScan(truth, t));
         const Vec3d e = r.T_map_lidar.translation() - truth.translation();
@@ -284,6 +287,7 @@ CorridorRun runCorridor(const std::shared_ptr<map::PriorMap>& map, const std::st
         out.max_err_yz = std::max(out.max_err_yz, e.tail<2>().norm());
         out.frames++;
         out.prior_used += r.prior_used;
+        if (r.prior_used) out.prior_frames.push_back(k);
         out.flagged_x += r.degenerate[0];
         if (r.prior_used) out.last_prior_w = r.prior_weight;
     }
@@ -333,5 +337,14 @@ TEST(ActiveFusion, WithoutOdomAltTheFlagsStayAndNoPriorIsUsed) {
     const CorridorRun sl = runCorridor(corridorMap(), "superloc", false);
     EXPECT_EQ(sl.prior_used, 0u);
     EXPECT_GE(sl.flagged_x, sl.frames - 1);  // degenerate x still reported
+    EXPECT_LT(sl.max_err_yz, 0.01);
+}
+
+TEST(ActiveFusion, OdomAltGapSkipsThePriorThenResumes) {
+    // odom_alt missing for 0.8 s (> the 0.5 s interpolation limit) around frames 10-17.
+    const CorridorRun sl = runCorridor(corridorMap(), "superloc", true, 0.95, 1.75);
+    for (int k : sl.prior_frames) EXPECT_TRUE(k < 10 || k > 17) << "prior used in the gap, frame " << k;
+    EXPECT_GE(sl.prior_used, 15u);  // before and after the gap
+    EXPECT_GE(sl.flagged_x, sl.frames - 1);
     EXPECT_LT(sl.max_err_yz, 0.01);
 }
