@@ -20,10 +20,18 @@ std::vector<Correspondence> corridor(size_t n) {
         Correspondence& c = out[i];
         const double x = along(rng), s = across(rng);
         switch (i % 4) {
-            case 0: c.p = {x, 1.5, s}, c.n = {0, -1, 0}; break;
-            case 1: c.p = {x, -1.5, s}, c.n = {0, 1, 0}; break;
-            case 2: c.p = {x, s, -1.3}, c.n = {0, 0, 1}; break;
-            default: c.p = {x, s, 1.3}, c.n = {0, 0, -1}; break;
+            case 0:
+                c.p = {x, 1.5, s}, c.n = {0, -1, 0};
+                break;
+            case 1:
+                c.p = {x, -1.5, s}, c.n = {0, 1, 0};
+                break;
+            case 2:
+                c.p = {x, s, -1.3}, c.n = {0, 0, 1};
+                break;
+            default:
+                c.p = {x, s, 1.3}, c.n = {0, 0, -1};
+                break;
         }
         c.weight = w(rng);
     }

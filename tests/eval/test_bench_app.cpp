@@ -1,10 +1,10 @@
 // superloc-bench's runner end to end with stand-in tools (shell scripts honouring the DESIGN §9
 // command lines), so the suite logic is tested without the real simulator and localizer.
 #include <gtest/gtest.h>
-#include <sys/stat.h>
 #include <superloc/eval/bench_app.h>
 #include <superloc/eval/process.h>
 #include <superloc_testing/testing.h>
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -34,9 +34,12 @@ const char* kParse =
 // superloc-sim: 11 GT poses 1 m apart along x; GT map = 21 x 3 points on the plane z = 0.
 const char* kSim =
     "mkdir -p \"$OUT\"; echo raw > \"$OUT/sequence.rawlog\"; echo map > \"$OUT/prior_map.pcd\"\n"
-    "i=0; : > \"$OUT/gt_tum.txt\"; while [ $i -le 10 ]; do echo \"$i.0 $i 0 0 0 0 0 1\" >> \"$OUT/gt_tum.txt\"; i=$((i+1)); done\n"
-    "{ printf 'ply\\nformat ascii 1.0\\nelement vertex 63\\nproperty float x\\nproperty float y\\nproperty float z\\nend_header\\n';\n"
-    "  for x in 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do for y in 0 1 2; do echo \"$x $y 0\"; done; done; } > \"$OUT/gt_map.ply\"\n";
+    "i=0; : > \"$OUT/gt_tum.txt\"; while [ $i -le 10 ]; do echo \"$i.0 $i 0 0 0 0 0 1\" >> "
+    "\"$OUT/gt_tum.txt\"; i=$((i+1)); done\n"
+    "{ printf 'ply\\nformat ascii 1.0\\nelement vertex 63\\nproperty float x\\nproperty float "
+    "y\\nproperty float z\\nend_header\\n';\n"
+    "  for x in 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do for y in 0 1 2; do echo "
+    "\"$x $y 0\"; done; done; } > \"$OUT/gt_map.ply\"\n";
 
 // superloc-localize: `good` reproduces GT with its map on the plane; `lift` is 0.2 m too high;
 // `stop` writes the first 6 poses and fails (exit 3).
@@ -45,10 +48,14 @@ const char* kLocalize =
     "[ \"$METHOD\" = lift ] && Z=0.2\n"
     "[ \"$METHOD\" = stop ] && N=6 && RC=3\n"
     "head -n $N \"$GT\" | awk -v z=$Z '{ $4 = $4 + z; print }' > \"$OUT/trajectory.tum\"\n"
-    "echo 't,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,degenerate,ms_total' > \"$OUT/frames.csv\"\n"
-    "i=0; while [ $i -lt $N ]; do echo \"$i.0,0.1,1,1,1,1,1,x,$((10+i))\" >> \"$OUT/frames.csv\"; i=$((i+1)); done\n"
-    "{ printf '# .PCD v0.7\\nVERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nCOUNT 1 1 1\\nWIDTH 3\\nHEIGHT 1\\n"
-    "VIEWPOINT 0 0 0 1 0 0 0\\nPOINTS 3\\nDATA ascii\\n'; echo \"1 1 $Z\"; echo \"5 1 $Z\"; echo \"9 2 $Z\"; } > \"$OUT/localized_map.pcd\"\n"
+    "echo 't,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,degenerate,ms_total' > "
+    "\"$OUT/frames.csv\"\n"
+    "i=0; while [ $i -lt $N ]; do echo \"$i.0,0.1,1,1,1,1,1,x,$((10+i))\" >> \"$OUT/frames.csv\"; "
+    "i=$((i+1)); done\n"
+    "{ printf '# .PCD v0.7\\nVERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nCOUNT 1 1 "
+    "1\\nWIDTH 3\\nHEIGHT 1\\n"
+    "VIEWPOINT 0 0 0 1 0 0 0\\nPOINTS 3\\nDATA ascii\\n'; echo \"1 1 $Z\"; echo \"5 1 $Z\"; echo "
+    "\"9 2 $Z\"; } > \"$OUT/localized_map.pcd\"\n"
     "exit $RC\n";
 }  // namespace
 
@@ -60,9 +67,9 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     writeScript(tools + "/superloc-localize", std::string(kParse) + kLocalize);
     std::ofstream(d + "/localize.ini") << "[localization]\n";
     std::ofstream(d + "/world.ini") << "[sim]\n";
-    std::ofstream(d + "/suite.ini")
-        << "[suite]\nmethods = good lift stop\nsequences = plane\nlocalize_config = localize.ini\ntimeout = 60\n"
-        << "[seq.plane]\ntype = sim\nconfig = world.ini\nseed = 3\n";
+    std::ofstream(d + "/suite.ini") << "[suite]\nmethods = good lift stop\nsequences = "
+                                       "plane\nlocalize_config = localize.ini\ntimeout = 60\n"
+                                    << "[seq.plane]\ntype = sim\nconfig = world.ini\nseed = 3\n";
     BenchApp app;
     app.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools});
     std::ostringstream log;
@@ -96,13 +103,15 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     EXPECT_NE(slurp(d + "/out/results.json").find("\"method\": \"lift\""), std::string::npos);
     EXPECT_NE(md.find("![plane_good_top.svg](plane_good_top.svg)"), std::string::npos) << md;
     EXPECT_NE(md.find("![plane_f1_rot.svg](plane_f1_rot.svg)"), std::string::npos) << md;
-    for (const char* f : {"plane_good_top.svg", "plane_good_gamma.svg", "plane_f1_trans.svg", "plane_f1_rot.svg"})
+    for (const char* f :
+         {"plane_good_top.svg", "plane_good_gamma.svg", "plane_f1_trans.svg", "plane_f1_rot.svg"})
         EXPECT_TRUE(fs::exists(d + "/out/" + f)) << f;
 
     // A second run reuses the simulated data (no sim tool needed any more).
     fs::remove(tools + "/superloc-sim");
     BenchApp again;
-    again.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--methods", "good"});
+    again.initialize(
+        {d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--methods", "good"});
     std::ostringstream log2;
     EXPECT_EQ(again.run(log2), 0) << log2.str();
     EXPECT_EQ(again.runs.size(), 1u);
@@ -112,16 +121,19 @@ TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
     const std::string d = superloc::testing::freshDir("bench_app_missing");
     std::ofstream(d + "/localize.ini") << "[localization]\n";
     std::ofstream(d + "/world.ini") << "[sim]\n";
-    std::ofstream(d + "/suite.ini") << "[suite]\nmethods = icp\nsequences = w\nlocalize_config = localize.ini\n"
-                                    << "[seq.w]\ntype = sim\nconfig = world.ini\n";
+    std::ofstream(d + "/suite.ini")
+        << "[suite]\nmethods = icp\nsequences = w\nlocalize_config = localize.ini\n"
+        << "[seq.w]\ntype = sim\nconfig = world.ini\n";
     BenchApp app;
     app.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", d + "/none"});
     std::ostringstream log;
     if (!findTool("superloc-sim", d + "/none").empty()) GTEST_SKIP() << "superloc-sim is on PATH";
     EXPECT_EQ(app.run(log), 2);
     ASSERT_EQ(app.runs.size(), 1u);
-    EXPECT_NE(app.runs[0].status.find("superloc-sim not found"), std::string::npos) << app.runs[0].status;
+    EXPECT_NE(app.runs[0].status.find("superloc-sim not found"), std::string::npos)
+        << app.runs[0].status;
     EXPECT_THROW(BenchApp().initialize({d + "/suite.ini"}), std::invalid_argument);
     EXPECT_THROW(BenchApp().initialize({"--out", d}), std::invalid_argument);
-    EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--sequences", "zzz"}), std::invalid_argument);
+    EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--sequences", "zzz"}),
+                 std::invalid_argument);
 }

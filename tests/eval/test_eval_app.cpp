@@ -34,7 +34,8 @@ TEST(EvalApp, KittiGtAgainstItselfIsExact) {
     const std::string gt = superloc::testing::sharedData("kitti00-mini/gt_velodyne_tum.txt");
     const std::string dir = superloc::testing::freshDir("eval_app_kitti");
     int rc = -1;
-    const std::string out = runApp({"--est", gt, "--gt", gt, "--json", dir + "/r.json", "--plots", dir}, &rc);
+    const std::string out =
+        runApp({"--est", gt, "--gt", gt, "--json", dir + "/r.json", "--plots", dir}, &rc);
     EXPECT_EQ(rc, 0);
     EXPECT_NE(out.find("| 16 / 16 / 16 |"), std::string::npos) << out;
     EXPECT_NE(out.find("0.0000 / 0.0000 / 0.0000"), std::string::npos) << out;
@@ -52,7 +53,8 @@ TEST(EvalApp, KittiShiftedBy30cmHasAte30cm) {
     Trajectory shifted = io::loadTum(gt);
     for (auto& p : shifted) p.pose.pretranslate(Vec3d(0.3, 0, 0));
     io::saveTum(dir + "/shifted.tum", shifted);
-    const std::string out = runApp({"--est", dir + "/shifted.tum", "--gt", gt, "--json", dir + "/r.json"});
+    const std::string out =
+        runApp({"--est", dir + "/shifted.tum", "--gt", gt, "--json", dir + "/r.json"});
     EXPECT_NE(out.find("| 0.3000 / 0.3000 / 0.3000 |"), std::string::npos) << out;
     EXPECT_NE(slurp(dir + "/r.json").find("\"rmse\": 0.3"), std::string::npos);
     // Aligned, the rigid shift disappears.
@@ -63,10 +65,12 @@ TEST(EvalApp, KittiShiftedBy30cmHasAte30cm) {
 TEST(EvalApp, BadCommandLinesAreOneLineErrors) {
     EvalApp a;
     EXPECT_THROW(a.initialize({"--gt", "x.tum"}), std::invalid_argument);
-    EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--est-map", "m.pcd"}), std::invalid_argument);
+    EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--est-map", "m.pcd"}),
+                 std::invalid_argument);
     EXPECT_THROW(EvalApp().initialize({"--bogus"}), std::invalid_argument);
     EXPECT_THROW(EvalApp().initialize({"--est"}), std::invalid_argument);
-    EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--set", "eval.nokey=1"}), ConfigError);
+    EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--set", "eval.nokey=1"}),
+                 ConfigError);
     EvalApp missing;
     missing.initialize({"--est", "/nonexistent.tum", "--gt", "/nonexistent.tum"});
     std::ostringstream out;
@@ -74,5 +78,7 @@ TEST(EvalApp, BadCommandLinesAreOneLineErrors) {
     int rc = -1;
     EXPECT_NE(runApp({"--help"}, &rc).find("Usage: superloc-eval"), std::string::npos);
     EXPECT_EQ(rc, 0);
-    EXPECT_NE(runApp({"--dump-config", "--set", "eval.outlier_threshold=0.2"}).find("outlier_threshold"), std::string::npos);
+    EXPECT_NE(
+        runApp({"--dump-config", "--set", "eval.outlier_threshold=0.2"}).find("outlier_threshold"),
+        std::string::npos);
 }

@@ -11,7 +11,8 @@ namespace {
 PointCloud grid(float z0) {
     PointCloud c;
     for (int i = 0; i < 100; ++i)
-        for (int j = 0; j < 100; ++j) c.points.emplace_back(0.005f + 0.02f * i, 0.005f + 0.02f * j, z0);
+        for (int j = 0; j < 100; ++j)
+            c.points.emplace_back(0.005f + 0.02f * i, 0.005f + 0.02f * j, z0);
     return c;
 }
 }  // namespace

@@ -25,7 +25,8 @@ TEST(JsonWriter, NestedPrettyOutput) {
 TEST(FrameLog, ParsesDegenerateLetters) {
     const auto f = parseDegenerateAxes("xyaw");
     EXPECT_EQ(f, (std::array<bool, 6>{true, false, false, false, false, true}));
-    EXPECT_EQ(parseDegenerateAxes("rollpitchz"), (std::array<bool, 6>{false, false, true, true, true, false}));
+    EXPECT_EQ(parseDegenerateAxes("rollpitchz"),
+              (std::array<bool, 6>{false, false, true, true, true, false}));
     EXPECT_EQ(parseDegenerateAxes(""), (std::array<bool, 6>{}));
     EXPECT_THROW(parseDegenerateAxes("xq"), std::invalid_argument);
 }
@@ -51,7 +52,8 @@ TEST(FrameLog, ReadsTheLocalizerCsv) {
     EXPECT_DOUBLE_EQ(log.frames[1].ms_total, 10.0);
 
     // min translation gamma per pose, by time
-    Trajectory tr = {{1.0, SE3d::Identity(), {}}, {1.1, SE3d::Identity(), {}}, {5.0, SE3d::Identity(), {}}};
+    Trajectory tr = {
+        {1.0, SE3d::Identity(), {}}, {1.1, SE3d::Identity(), {}}, {5.0, SE3d::Identity(), {}}};
     const auto g = minTranslationGamma(tr, log, 0.02);
     EXPECT_DOUBLE_EQ(g[0], 0.1);
     EXPECT_DOUBLE_EQ(g[1], 1.0);
@@ -66,7 +68,8 @@ TEST(FrameLog, ErrorsNameFileAndLine) {
         loadFrameLog(path);
         FAIL() << "no error";
     } catch (const std::runtime_error& e) {
-        EXPECT_NE(std::string(e.what()).find(path + ":2: column 'ms_total'"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(path + ":2: column 'ms_total'"), std::string::npos)
+            << e.what();
     }
     { std::ofstream(path) << "time,ms\n"; }
     EXPECT_THROW(loadFrameLog(path), std::runtime_error);

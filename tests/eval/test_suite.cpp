@@ -37,7 +37,8 @@ std::string suiteDir(const std::string& name) {
 
 TEST(Suite, LoadsSequencesAndBuildsCommands) {
     const std::string d = suiteDir("suite_load");
-    const std::string path = write(d + "/s.ini",
+    const std::string path = write(
+        d + "/s.ini",
         "[suite]\nmethods = superloc icp\nsequences = w realset\nlocalize_config = localize.ini\n"
         "localize_set = localization.max_frames=50\ntimeout = 60\n"
         "[eval]\noutlier_threshold = 0.2\n"
@@ -59,17 +60,21 @@ TEST(Suite, LoadsSequencesAndBuildsCommands) {
     EXPECT_EQ(fs::path(r.scans).filename(), "scans");
     EXPECT_DOUBLE_EQ(r.prior_voxel, 0.2);
     EXPECT_EQ(importCommand("imp", r, "x.rawlog"),
-              (std::vector<std::string>{"imp", "--pcd-dir", r.scans, "--poses", r.gt, "--out", "x.rawlog", "--quiet"}));
+              (std::vector<std::string>{"imp", "--pcd-dir", r.scans, "--poses", r.gt, "--out",
+                                        "x.rawlog", "--quiet"}));
     EXPECT_EQ(mapCommand("map", "x.rawlog", "gt.txt", 0.05, "m.pcd"),
-              (std::vector<std::string>{"map", "--rawlog", "x.rawlog", "--poses", "gt.txt", "--voxel", "0.05", "--out", "m.pcd"}));
+              (std::vector<std::string>{"map", "--rawlog", "x.rawlog", "--poses", "gt.txt",
+                                        "--voxel", "0.05", "--out", "m.pcd"}));
     const SequenceFiles f = sequenceFiles(w, "/o");
     EXPECT_EQ(f.rawlog, "/o/data/w/sequence.rawlog");
     EXPECT_EQ(f.gt_map, "/o/data/w/gt_map.ply");
     EXPECT_EQ(sequenceFiles(r, "/o").gt_tum, r.gt);
     const auto loc = localizeCommand("loc", s, w, "icp", f, "/o/runs/w/icp");
-    EXPECT_EQ(joinCommand(loc), "loc " + s.localize_config +
-              " --rawlog /o/data/w/sequence.rawlog --map /o/data/w/prior_map.pcd --method icp"
-              " --out /o/runs/w/icp --initial-pose-tum /o/data/w/gt_tum.txt --quiet --set localization.max_frames=50");
+    EXPECT_EQ(joinCommand(loc),
+              "loc " + s.localize_config +
+                  " --rawlog /o/data/w/sequence.rawlog --map /o/data/w/prior_map.pcd --method icp"
+                  " --out /o/runs/w/icp --initial-pose-tum /o/data/w/gt_tum.txt --quiet --set "
+                  "localization.max_frames=50");
 }
 
 TEST(Suite, BadSuitesNameFileSectionAndKey) {
@@ -85,12 +90,16 @@ TEST(Suite, BadSuitesNameFileSectionAndKey) {
     };
     const std::string head = "[suite]\nmethods = icp\nlocalize_config = localize.ini\n";
     fails(head + "sequences = a\n", "no [seq.a]");
-    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = world.ini\nsed = 3\n", "unknown key 'sed' in section [seq.a]");
-    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = nothere.ini\n", "nothere.ini does not exist");
+    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = world.ini\nsed = 3\n",
+          "unknown key 'sed' in section [seq.a]");
+    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = nothere.ini\n",
+          "nothere.ini does not exist");
     fails(head + "sequences = a\n[seq.a]\ntype = lidar\n", "expected sim, kitti or pcd");
-    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = world.ini\nseed = x\n", "is not a number");
+    fails(head + "sequences = a\n[seq.a]\ntype = sim\nconfig = world.ini\nseed = x\n",
+          "is not a number");
     fails("[suite]\nmethods = icp\nsequences = a\n", "localize_config is required");
-    fails(head + "sequences = a\n[eval]\nmap_voxl = 1\n[seq.a]\ntype = sim\nconfig = world.ini\n", "unknown key 'map_voxl'");
+    fails(head + "sequences = a\n[eval]\nmap_voxl = 1\n[seq.a]\ntype = sim\nconfig = world.ini\n",
+          "unknown key 'map_voxl'");
 }
 
 TEST(Process, ExitCodesLogsAndTimeout) {
@@ -98,7 +107,8 @@ TEST(Process, ExitCodesLogsAndTimeout) {
     const ProcessResult ok = runProcess({"/bin/sh", "-c", "echo hello; exit 0"}, d + "/a.log", 10);
     EXPECT_TRUE(ok.ok());
     EXPECT_EQ(slurp(d + "/a.log"), "hello\n");
-    const ProcessResult bad = runProcess({"/bin/sh", "-c", "echo oops >&2; exit 3"}, d + "/b.log", 10);
+    const ProcessResult bad =
+        runProcess({"/bin/sh", "-c", "echo oops >&2; exit 3"}, d + "/b.log", 10);
     EXPECT_EQ(bad.exit_code, 3);
     EXPECT_FALSE(bad.ok());
     EXPECT_EQ(slurp(d + "/b.log"), "oops\n");
@@ -111,7 +121,8 @@ TEST(Process, ExitCodesLogsAndTimeout) {
 }
 
 TEST(BenchReport, TableShapeBestValuesAndFailures) {
-    auto run = [](const std::string& seq, const std::string& m, double ate, double out, const std::string& st) {
+    auto run = [](const std::string& seq, const std::string& m, double ate, double out,
+                  const std::string& st) {
         RunRecord r;
         r.sequence = seq, r.method = m, r.status = st, r.gt_length_m = 100;
         EvalResult e;
@@ -125,10 +136,14 @@ TEST(BenchReport, TableShapeBestValuesAndFailures) {
         r.result = e;
         return r;
     };
-    std::vector<RunRecord> runs = {run("cave", "superloc", 0.05, 1.5, "ok"), run("cave", "icp", 0.5, 30, "ok"),
-                                   run("corridor", "superloc", 0.1, 3.55, "ok"), run("corridor", "icp", 9, 80, "exit 3")};
-    const std::string md = resultsMarkdown(runs, {"cave", "corridor"}, {"superloc", "icp"}, "cmd\n");
-    EXPECT_NE(md.find("## Map outliers [%] (farther than 10 cm from the GT map)"), std::string::npos) << md;
+    std::vector<RunRecord> runs = {
+        run("cave", "superloc", 0.05, 1.5, "ok"), run("cave", "icp", 0.5, 30, "ok"),
+        run("corridor", "superloc", 0.1, 3.55, "ok"), run("corridor", "icp", 9, 80, "exit 3")};
+    const std::string md =
+        resultsMarkdown(runs, {"cave", "corridor"}, {"superloc", "icp"}, "cmd\n");
+    EXPECT_NE(md.find("## Map outliers [%] (farther than 10 cm from the GT map)"),
+              std::string::npos)
+        << md;
     EXPECT_NE(md.find("| Method | cave | corridor |"), std::string::npos);
     EXPECT_NE(md.find("| Distance [m] | 100 | 100 |"), std::string::npos);
     EXPECT_NE(md.find("| superloc | **1.50** | **3.55** |"), std::string::npos) << md;
@@ -146,11 +161,15 @@ TEST(Suite, CommittedSuitesLoad) {
     SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
     if (!fs::exists(superloc::testing::sourcePath("ini/localize.ini")))
         GTEST_SKIP() << "ini/localize.ini not in this tree yet";
-    const SuiteSpec quick = loadSuite(superloc::testing::sourcePath("ini/bench/quick.ini"), superloc::testing::sharedData());
+    const SuiteSpec quick = loadSuite(superloc::testing::sourcePath("ini/bench/quick.ini"),
+                                      superloc::testing::sharedData());
     EXPECT_EQ(quick.sequences.size(), 3u);
-    const SuiteSpec paper = loadSuite(superloc::testing::sourcePath("ini/bench/paper.ini"), superloc::testing::sharedData());
-    EXPECT_EQ(paper.methods, (std::vector<std::string>{"superloc", "icp", "passive", "eigen_remap", "ndt"}));
+    const SuiteSpec paper = loadSuite(superloc::testing::sourcePath("ini/bench/paper.ini"),
+                                      superloc::testing::sharedData());
+    EXPECT_EQ(paper.methods,
+              (std::vector<std::string>{"superloc", "icp", "passive", "eigen_remap", "ndt"}));
     ASSERT_EQ(paper.sequences.size(), 7u);
     EXPECT_EQ(paper.sequences[5].kind, SequenceSpec::Kind::PcdDir);
-    EXPECT_EQ(paper.sequences[6].localize_sets, (std::vector<std::string>{"features.deskew=false"}));
+    EXPECT_EQ(paper.sequences[6].localize_sets,
+              (std::vector<std::string>{"features.deskew=false"}));
 }

@@ -11,7 +11,8 @@ namespace {
 /// n poses along x, 1 m apart, 0.1 s apart, no rotation.
 Trajectory line(size_t n) {
     Trajectory t;
-    for (size_t i = 0; i < n; ++i) t.push_back({0.1 * double(i), makePoseRPY(double(i), 0, 0, 0, 0, 0), {}});
+    for (size_t i = 0; i < n; ++i)
+        t.push_back({0.1 * double(i), makePoseRPY(double(i), 0, 0, 0, 0, 0), {}});
     return t;
 }
 /// n poses on a circle of radius 5 m, heading along the tangent, with some height change.
@@ -19,7 +20,10 @@ Trajectory circle(size_t n) {
     Trajectory t;
     for (size_t i = 0; i < n; ++i) {
         const double a = 2 * M_PI * double(i) / double(n);
-        t.push_back({0.1 * double(i), makePoseRPY(5 * std::cos(a), 5 * std::sin(a), 0.3 * std::sin(3 * a), 0, 0, a + M_PI / 2), {}});
+        t.push_back({0.1 * double(i),
+                     makePoseRPY(5 * std::cos(a), 5 * std::sin(a), 0.3 * std::sin(3 * a), 0, 0,
+                                 a + M_PI / 2),
+                     {}});
     }
     return t;
 }

@@ -18,9 +18,9 @@ struct AxisPlane {
 
 /// Casts n_az x n_el rays (azimuth over 360 deg, elevation evenly in [el_min, el_max] deg)
 /// from the origin; each ray keeps its nearest plane hit within max_range.
-inline std::vector<Correspondence> castScene(
-    const std::vector<AxisPlane>& planes, int n_az = 360, int n_el = 32, double el_min = -45,
-    double el_max = 45, double max_range = 30) {
+inline std::vector<Correspondence> castScene(const std::vector<AxisPlane>& planes, int n_az = 360,
+                                             int n_el = 32, double el_min = -45, double el_max = 45,
+                                             double max_range = 30) {
     std::vector<Correspondence> out;
     const double deg = M_PI / 180;
     for (int e = 0; e < n_el; ++e) {

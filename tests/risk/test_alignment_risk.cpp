@@ -79,9 +79,9 @@ TEST(AlignmentRisk, TwoRotationLabelsHandComputed) {
 }
 
 TEST(AlignmentRisk, WeightsCountFractionally) {
-    const std::vector<Correspondence> cs = {
-        corr({1, 1, 0}, {0, 0, 1}, 0.5), corr({1, 2, 0}, {0, 0, 1}, 0.1),
-        corr({0, 1, 1}, {1, 0, 0}, 1.0)};
+    const std::vector<Correspondence> cs = {corr({1, 1, 0}, {0, 0, 1}, 0.5),
+                                            corr({1, 2, 0}, {0, 0, 1}, 0.1),
+                                            corr({0, 1, 1}, {1, 0, 0}, 1.0)};
     const auto r = computeAlignmentRisk(cs, RiskParams{});
     EXPECT_NEAR(r.counts[0], 1.0, 1e-12);
     EXPECT_NEAR(r.counts[2], 0.6, 1e-12);
@@ -121,7 +121,7 @@ TEST(AlignmentRisk, ZeroLeverArmHasNoRotationLabel) {
 // An infinite floor 1.8 m below the sensor: every normal is z; p x n = (y, -x, 0) never has a
 // yaw part. Degenerate: x, y, yaw. Healthy: z, roll, pitch.
 class SceneTest : public ::testing::TestWithParam<int> {
-   protected:
+ protected:
     RiskParams params() const {
         RiskParams p;
         p.rotation_labels = GetParam();
@@ -179,7 +179,8 @@ TEST(AlignmentRisk, ObservabilityColours) {
 }
 
 TEST(RiskParams, LoadsValidatesAndSaves) {
-    mrpt::config::CConfigFileMemory c("[risk]\ndegenerate_threshold = 0.25\nweighted_labels=false\n");
+    mrpt::config::CConfigFileMemory c(
+        "[risk]\ndegenerate_threshold = 0.25\nweighted_labels=false\n");
     const auto p = loadParams<RiskParams>(c, "risk", "t.ini");
     EXPECT_DOUBLE_EQ(p.degenerate_threshold, 0.25);
     EXPECT_FALSE(p.weighted_labels);

@@ -42,7 +42,8 @@ std::string BenchApp::usage() {
            "Runs every method of a suite on every sequence, evaluates, writes DIR/results.md,\n"
            "DIR/results.json and DIR/*.svg (DESIGN §8).\n"
            "  --out DIR           output folder (data/, runs/, logs/ and the results)\n"
-           "  --data DIR          real data sets folder (default: the build's SUPERLOC_SHARED_DATA)\n"
+           "  --data DIR          real data sets folder (default: the build's "
+           "SUPERLOC_SHARED_DATA)\n"
            "  --tools DIR         folder of superloc-sim/-import/-map/-localize (default: next to\n"
            "                      this executable, the build tree, then PATH)\n"
            "  --sequences \"a b\"   run only these sequences of the suite\n"
@@ -60,15 +61,24 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
             if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
             return args[++i];
         };
-        if (a == "--help" || a == "-h") help = true;
-        else if (a == "--out") out_dir = next();
-        else if (a == "--data") data_dir = next();
-        else if (a == "--tools") tools_dir = next();
-        else if (a == "--sequences") only_seq = next(), seq_given = true;
-        else if (a == "--methods") only_meth = next(), meth_given = true;
-        else if (a == "--fresh") fresh = true;
-        else if (!a.empty() && a[0] != '-' && suite_path.empty()) suite_path = a;
-        else throw std::invalid_argument("unknown argument '" + a + "' (see --help)");
+        if (a == "--help" || a == "-h")
+            help = true;
+        else if (a == "--out")
+            out_dir = next();
+        else if (a == "--data")
+            data_dir = next();
+        else if (a == "--tools")
+            tools_dir = next();
+        else if (a == "--sequences")
+            only_seq = next(), seq_given = true;
+        else if (a == "--methods")
+            only_meth = next(), meth_given = true;
+        else if (a == "--fresh")
+            fresh = true;
+        else if (!a.empty() && a[0] != '-' && suite_path.empty())
+            suite_path = a;
+        else
+            throw std::invalid_argument("unknown argument '" + a + "' (see --help)");
     }
     if (help) return;
     if (suite_path.empty()) throw std::invalid_argument("SUITE.ini is required (see --help)");
@@ -81,7 +91,8 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
             bool found = false;
             for (const auto& s : suite.sequences)
                 if (s.name == name) keep.push_back(s), found = true;
-            if (!found) throw std::invalid_argument("--sequences: '" + name + "' is not in " + suite_path);
+            if (!found)
+                throw std::invalid_argument("--sequences: '" + name + "' is not in " + suite_path);
         }
         suite.sequences = keep;
     }
@@ -92,7 +103,9 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
 
 std::string BenchApp::tool(const std::string& name) const {
     const std::string t = findTool(name, tools_dir);
-    if (t.empty()) throw std::runtime_error(name + " not found next to superloc-bench (" + tools_dir + "), in the build tree or on PATH");
+    if (t.empty())
+        throw std::runtime_error(name + " not found next to superloc-bench (" + tools_dir +
+                                 "), in the build tree or on PATH");
     return t;
 }
 
@@ -100,28 +113,42 @@ std::string BenchApp::prepare(const SequenceSpec& seq, const SequenceFiles& f, s
     const std::string logs = (fs::path(out_dir) / "logs").string();
     const auto step = [&](const std::vector<std::string>& argv, const std::string& what) {
         log << "  " << seq.name << ": " << what << ": " << joinCommand(argv) << std::endl;
-        const ProcessResult p = runProcess(argv, logs + "/" + seq.name + "-" + what + ".log", suite.timeout_s);
+        const ProcessResult p =
+            runProcess(argv, logs + "/" + seq.name + "-" + what + ".log", suite.timeout_s);
         const std::string st = status(p, suite.timeout_s);
-        return st == "ok" ? std::string() : what + " " + st + " (see logs/" + seq.name + "-" + what + ".log)";
+        return st == "ok" ? std::string()
+                          : what + " " + st + " (see logs/" + seq.name + "-" + what + ".log)";
     };
     if (seq.kind == SequenceSpec::Kind::Sim) {
         if (!fresh && allExist({f.rawlog, f.gt_tum, f.gt_map, f.prior_map})) return "";
-        if (auto e = step(simCommand(tool("superloc-sim"), seq, f.dir), "sim"); !e.empty()) return e;
+        if (auto e = step(simCommand(tool("superloc-sim"), seq, f.dir), "sim"); !e.empty())
+            return e;
     } else {
         if (fresh || !fs::exists(f.rawlog))
-            if (auto e = step(importCommand(tool("superloc-import"), seq, f.rawlog), "import"); !e.empty()) return e;
+            if (auto e = step(importCommand(tool("superloc-import"), seq, f.rawlog), "import");
+                !e.empty())
+                return e;
         if (fresh || !fs::exists(f.prior_map))
-            if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel, f.prior_map), "prior-map"); !e.empty()) return e;
+            if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel,
+                                         f.prior_map),
+                              "prior-map");
+                !e.empty())
+                return e;
         if (fresh || !fs::exists(f.gt_map))
-            if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.gt_map_voxel, f.gt_map), "gt-map"); !e.empty()) return e;
+            if (auto e = step(
+                    mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.gt_map_voxel, f.gt_map),
+                    "gt-map");
+                !e.empty())
+                return e;
     }
     for (const auto& p : {f.rawlog, f.gt_tum, f.gt_map, f.prior_map})
         if (!fs::exists(p)) return "missing " + p + " after preparing";
     return "";
 }
 
-RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f, const std::string& method,
-                           const Trajectory& gt, const PointCloud& gt_map, std::ostream& log) {
+RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f,
+                           const std::string& method, const Trajectory& gt,
+                           const PointCloud& gt_map, std::ostream& log) {
     RunRecord r;
     r.sequence = seq.name;
     r.method = method;
@@ -129,7 +156,8 @@ RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f, cons
     const fs::path dir = fs::path(out_dir) / "runs" / seq.name / method;
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const auto argv = localizeCommand(tool("superloc-localize"), suite, seq, method, f, dir.string());
+    const auto argv =
+        localizeCommand(tool("superloc-localize"), suite, seq, method, f, dir.string());
     log << "  " << seq.name << " / " << method << ": " << joinCommand(argv) << std::endl;
     const ProcessResult p = runProcess(argv, (dir / "localize.log").string(), suite.timeout_s);
     r.status = status(p, suite.timeout_s);
@@ -143,7 +171,8 @@ RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f, cons
         }
         const Trajectory est = io::loadTum(traj.string());
         PointCloud est_map;
-        if (fs::exists(dir / "localized_map.pcd")) est_map = io::loadPointCloud((dir / "localized_map.pcd").string());
+        if (fs::exists(dir / "localized_map.pcd"))
+            est_map = io::loadPointCloud((dir / "localized_map.pcd").string());
         FrameLog frames;
         const bool has_frames = fs::exists(dir / "frames.csv");
         if (has_frames) frames = loadFrameLog((dir / "frames.csv").string());
@@ -151,12 +180,16 @@ RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f, cons
                             has_frames ? &frames : nullptr);
         const std::string stem = seq.name + "_" + method;
         const std::vector<double> g =
-            has_frames ? minTranslationGamma(est, frames, suite.eval.assoc_tolerance) : std::vector<double>{};
-        writePlot(stem + "_top.svg", trajectoryTopViewSvg(gt, est, g, seq.name + " / " + method + " (top view)"));
+            has_frames ? minTranslationGamma(est, frames, suite.eval.assoc_tolerance)
+                       : std::vector<double>{};
+        writePlot(stem + "_top.svg",
+                  trajectoryTopViewSvg(gt, est, g, seq.name + " / " + method + " (top view)"));
         if (has_frames && frames.has_gamma)
-            writePlot(stem + "_gamma.svg", gammaTimelineSvg(frames, 0.2, seq.name + " / " + method + ": γ"));
+            writePlot(stem + "_gamma.svg",
+                      gammaTimelineSvg(frames, 0.2, seq.name + " / " + method + ": γ"));
     } catch (const std::exception& e) {
-        r.status = (r.status == "ok" ? "" : r.status + "; ") + "evaluation failed: " + std::string(e.what()).substr(0, 200);
+        r.status = (r.status == "ok" ? "" : r.status + "; ") +
+                   "evaluation failed: " + std::string(e.what()).substr(0, 200);
     }
     return r;
 }
@@ -173,7 +206,8 @@ void BenchApp::writeResults() const {
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
     const std::string preamble = "Produced by `" + command_line_ + "` on " + date + ".\n";
-    writeTextFile((fs::path(out_dir) / "results.md").string(), resultsMarkdown(runs, seqs, meths, preamble, plots));
+    writeTextFile((fs::path(out_dir) / "results.md").string(),
+                  resultsMarkdown(runs, seqs, meths, preamble, plots));
     writeTextFile((fs::path(out_dir) / "results.json").string(), resultsJson(runs, suite.path));
 }
 
@@ -211,11 +245,12 @@ int BenchApp::run(std::ostream& log) {
             log << "  -> " << r.status;
             if (r.result) {
                 char buf[160];
-                std::snprintf(buf, sizeof buf, ", ATE %.3f m, Rp %.3f, Rr %.3f", r.result->ate.trans.rmse,
-                              r.result->rp.area, r.result->rr.area);
+                std::snprintf(buf, sizeof buf, ", ATE %.3f m, Rp %.3f, Rr %.3f",
+                              r.result->ate.trans.rmse, r.result->rp.area, r.result->rr.area);
                 log << buf;
                 if (r.result->map) {
-                    std::snprintf(buf, sizeof buf, ", map outliers %.2f %%", r.result->map->outlier_percent);
+                    std::snprintf(buf, sizeof buf, ", map outliers %.2f %%",
+                                  r.result->map->outlier_percent);
                     log << buf;
                 }
                 rp.emplace_back(method, r.result->rp);
@@ -225,8 +260,10 @@ int BenchApp::run(std::ostream& log) {
             writeResults();
         }
         if (!rp.empty()) {
-            writePlot(seq.name + "_f1_trans.svg", f1CurvesSvg(rp, false, seq.name + ": F1 (translation RPE)"));
-            writePlot(seq.name + "_f1_rot.svg", f1CurvesSvg(rr, true, seq.name + ": F1 (rotation RPE)"));
+            writePlot(seq.name + "_f1_trans.svg",
+                      f1CurvesSvg(rp, false, seq.name + ": F1 (translation RPE)"));
+            writePlot(seq.name + "_f1_rot.svg",
+                      f1CurvesSvg(rr, true, seq.name + ": F1 (rotation RPE)"));
             writeResults();
         }
     }

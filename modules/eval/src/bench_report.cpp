@@ -10,7 +10,8 @@
 namespace superloc::eval {
 namespace {
 
-const RunRecord* find(const std::vector<RunRecord>& runs, const std::string& seq, const std::string& m) {
+const RunRecord* find(const std::vector<RunRecord>& runs, const std::string& seq,
+                      const std::string& m) {
     for (const auto& r : runs)
         if (r.sequence == seq && r.method == m) return &r;
     return nullptr;
@@ -25,31 +26,38 @@ struct Metric {
 
 std::vector<Metric> metrics(double outlier_threshold) {
     char thr[64];
-    std::snprintf(thr, sizeof thr, "Map outliers [%%] (farther than %.0f cm from the GT map)", 100 * outlier_threshold);
+    std::snprintf(thr, sizeof thr, "Map outliers [%%] (farther than %.0f cm from the GT map)",
+                  100 * outlier_threshold);
     return {
-        {thr, "%.2f", -1, [](const RunRecord& r) -> std::optional<double> {
+        {thr, "%.2f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
              if (r.result && r.result->map) return r.result->map->outlier_percent;
              return std::nullopt;
          }},
-        {"ATE RMSE [m] (map frame, no alignment)", "%.3f", -1, [](const RunRecord& r) -> std::optional<double> {
+        {"ATE RMSE [m] (map frame, no alignment)", "%.3f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
              if (r.result && r.result->matched_frames) return r.result->ate.trans.rmse;
              return std::nullopt;
          }},
-        {"Robustness Rp (translation)", "%.3f", +1, [](const RunRecord& r) -> std::optional<double> {
+        {"Robustness Rp (translation)", "%.3f", +1,
+         [](const RunRecord& r) -> std::optional<double> {
              if (r.result) return r.result->rp.area;
              return std::nullopt;
          }},
-        {"Robustness Rr (rotation)", "%.3f", +1, [](const RunRecord& r) -> std::optional<double> {
+        {"Robustness Rr (rotation)", "%.3f", +1,
+         [](const RunRecord& r) -> std::optional<double> {
              if (r.result) return r.result->rr.area;
              return std::nullopt;
          }},
-        {"ms per frame (median)", "%.1f", -1, [](const RunRecord& r) -> std::optional<double> {
+        {"ms per frame (median)", "%.1f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
              if (r.result && r.result->timing) return r.result->timing->median_ms;
              return std::nullopt;
          }},
         {"Frames with a degenerate axis [%] (risk module's flags)", "%.1f", 0,
          [](const RunRecord& r) -> std::optional<double> {
-             if (r.result && r.result->degenerate_frame_percent) return *r.result->degenerate_frame_percent;
+             if (r.result && r.result->degenerate_frame_percent)
+                 return *r.result->degenerate_frame_percent;
              return std::nullopt;
          }},
     };
@@ -65,7 +73,8 @@ std::string fmt(const char* f, double v) {
 
 double pathLength(const Trajectory& traj) {
     double len = 0;
-    for (size_t i = 1; i < traj.size(); ++i) len += translationDistance(traj[i - 1].pose, traj[i].pose);
+    for (size_t i = 1; i < traj.size(); ++i)
+        len += translationDistance(traj[i - 1].pose, traj[i].pose);
     return len;
 }
 
@@ -95,7 +104,8 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
             for (const auto& meth : methods)
                 if (const RunRecord* r = find(runs, sequences[c], meth); r && r->status == "ok")
                     if (const auto v = m.get(*r); v && std::isfinite(*v))
-                        if (std::isnan(best[c]) || (m.better < 0 ? *v < best[c] : *v > best[c])) best[c] = *v;
+                        if (std::isnan(best[c]) || (m.better < 0 ? *v < best[c] : *v > best[c]))
+                            best[c] = *v;
         for (const auto& meth : methods) {
             md += "| " + meth + " |";
             for (size_t c = 0; c < sequences.size(); ++c) {
@@ -104,7 +114,8 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
                 std::string cell = "–";
                 if (v && std::isfinite(*v)) {
                     cell = fmt(m.format, *v);
-                    if (r->status == "ok" && fmt(m.format, *v) == fmt(m.format, best[c])) cell = "**" + cell + "**";
+                    if (r->status == "ok" && fmt(m.format, *v) == fmt(m.format, best[c]))
+                        cell = "**" + cell + "**";
                 }
                 if (r && r->status != "ok") cell += " †", any_failed = true;
                 md += " " + cell + " |";
@@ -115,16 +126,24 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
     if (any_failed) {
         md += "\n† the run did not finish; its values (if any) cover the frames it wrote.\n\n";
         for (const auto& r : runs)
-            if (r.status != "ok") md += "- " + r.sequence + " / " + r.method + ": " + r.status + "\n";
+            if (r.status != "ok")
+                md += "- " + r.sequence + " / " + r.method + ": " + r.status + "\n";
     }
-    md += "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] |\n|---|---|---|---:|---:|---:|\n";
+    md +=
+        "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] "
+        "|\n|---|---|---|---:|---:|---:|\n";
     for (const auto& r : runs)
         md += "| " + r.sequence + " | " + r.method + " | " + r.status + " | " +
-              (r.result ? std::to_string(r.result->est_frames) + "/" + std::to_string(r.result->gt_frames) : "–") +
+              (r.result ? std::to_string(r.result->est_frames) + "/" +
+                              std::to_string(r.result->gt_frames)
+                        : "–") +
               " | " + fmt("%.1f", r.wall_s) + " | " + fmt("%.0f", r.peak_rss_mb) + " |\n";
     if (!plots.empty()) {
-        md += "\n## Plots\n\nTop views: GT grey, estimate coloured by min(γ_x, γ_y, γ_z) (red 0 → green 1). "
-              "γ timelines: threshold dashed, frames flagged degenerate shaded. F1(τ) curves of all methods.\n\n";
+        md +=
+            "\n## Plots\n\nTop views: GT grey, estimate coloured by min(γ_x, γ_y, γ_z) (red 0 → "
+            "green 1). "
+            "γ timelines: threshold dashed, frames flagged degenerate shaded. F1(τ) curves of all "
+            "methods.\n\n";
         for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
     }
     return md;
@@ -134,11 +153,18 @@ std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& s
     JsonWriter j;
     j.beginObject().field("suite", suite_path).key("runs").beginArray();
     for (const auto& r : runs) {
-        j.beginObject().field("sequence", r.sequence).field("method", r.method).field("status", r.status);
-        j.field("wall_s", r.wall_s).field("peak_rss_mb", r.peak_rss_mb).field("gt_length_m", r.gt_length_m);
+        j.beginObject()
+            .field("sequence", r.sequence)
+            .field("method", r.method)
+            .field("status", r.status);
+        j.field("wall_s", r.wall_s)
+            .field("peak_rss_mb", r.peak_rss_mb)
+            .field("gt_length_m", r.gt_length_m);
         j.key("metrics");
-        if (r.result) writeJson(j, *r.result, false);
-        else j.null();
+        if (r.result)
+            writeJson(j, *r.result, false);
+        else
+            j.null();
         j.endObject();
     }
     j.endArray().endObject();

@@ -53,17 +53,28 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
             if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
             return args[++i];
         };
-        if (a == "--help" || a == "-h") help = true;
-        else if (a == "--est") est_path = next();
-        else if (a == "--gt") gt_path = next();
-        else if (a == "--est-map") est_map_path = next();
-        else if (a == "--gt-map") gt_map_path = next();
-        else if (a == "--frames") frames_path = next();
-        else if (a == "--json") json_path = next();
-        else if (a == "--plots") plots_dir = next();
-        else if (a == "--align") align_flag = true;
-        else if (a == "--dump-config") dump_config = true;
-        else if (a == "--set") sets.push_back(next());
+        if (a == "--help" || a == "-h")
+            help = true;
+        else if (a == "--est")
+            est_path = next();
+        else if (a == "--gt")
+            gt_path = next();
+        else if (a == "--est-map")
+            est_map_path = next();
+        else if (a == "--gt-map")
+            gt_map_path = next();
+        else if (a == "--frames")
+            frames_path = next();
+        else if (a == "--json")
+            json_path = next();
+        else if (a == "--plots")
+            plots_dir = next();
+        else if (a == "--align")
+            align_flag = true;
+        else if (a == "--dump-config")
+            dump_config = true;
+        else if (a == "--set")
+            sets.push_back(next());
         else if (a == "--config") {
             source = next();
             if (!std::filesystem::is_regular_file(source))
@@ -109,9 +120,9 @@ int EvalApp::run(std::ostream& out) {
     FrameLog frames;
     if (!frames_path.empty()) frames = loadFrameLog(frames_path);
     const bool maps = !est_map_path.empty();
-    const EvalResult r = evaluate(
-        est, gt, params, maps ? &est_map : nullptr, maps ? &gt_map : nullptr,
-        frames_path.empty() ? nullptr : &frames);
+    const EvalResult r =
+        evaluate(est, gt, params, maps ? &est_map : nullptr, maps ? &gt_map : nullptr,
+                 frames_path.empty() ? nullptr : &frames);
     out << summaryMarkdown(r);
     if (!json_path.empty()) {
         JsonWriter j;
@@ -120,12 +131,16 @@ int EvalApp::run(std::ostream& out) {
     }
     if (!plots_dir.empty()) {
         std::filesystem::create_directories(plots_dir);
-        const auto p = [&](const std::string& f) { return (std::filesystem::path(plots_dir) / f).string(); };
+        const auto p = [&](const std::string& f) {
+            return (std::filesystem::path(plots_dir) / f).string();
+        };
         std::vector<double> g;
         if (frames.has_gamma) g = minTranslationGamma(est, frames, params.assoc_tolerance);
         writeTextFile(p("trajectory.svg"), trajectoryTopViewSvg(gt, est, g, "Top view"));
-        writeTextFile(p("f1_trans.svg"), f1CurvesSvg({{"estimate", r.rp}}, false, "Robustness F1 (translation)"));
-        writeTextFile(p("f1_rot.svg"), f1CurvesSvg({{"estimate", r.rr}}, true, "Robustness F1 (rotation)"));
+        writeTextFile(p("f1_trans.svg"),
+                      f1CurvesSvg({{"estimate", r.rp}}, false, "Robustness F1 (translation)"));
+        writeTextFile(p("f1_rot.svg"),
+                      f1CurvesSvg({{"estimate", r.rr}}, true, "Robustness F1 (rotation)"));
         if (frames.has_gamma)
             writeTextFile(p("gamma.svg"), gammaTimelineSvg(frames, 0.2, "Confidence γ per axis"));
     }

@@ -15,11 +15,15 @@ void EvalParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, cons
 }
 
 void EvalParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(assoc_tolerance, "[s] max time difference to pair estimate and GT");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(align, "[bool] SE(3) Umeyama alignment before ATE (default: none)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(assoc_tolerance,
+                                 "[s] max time difference to pair estimate and GT");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(align,
+                                 "[bool] SE(3) Umeyama alignment before ATE (default: none)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(map_voxel, "[m] voxel size of the localized map before comparing");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(outlier_threshold, "[m] map point farther than this from GT = outlier");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(robustness_bins, "[-] bins of T in [0,1] for Rp/Rr, tau = exp(-10 T)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(outlier_threshold,
+                                 "[m] map point farther than this from GT = outlier");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(robustness_bins,
+                                 "[-] bins of T in [0,1] for Rp/Rr, tau = exp(-10 T)");
 }
 
 void EvalParams::validate() const {

@@ -5,9 +5,8 @@
 
 namespace superloc::eval {
 
-EvalResult evaluate(
-    const Trajectory& est, const Trajectory& gt, const EvalParams& params,
-    const PointCloud* est_map, const PointCloud* gt_map, const FrameLog* frames) {
+EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParams& params,
+                    const PointCloud* est_map, const PointCloud* gt_map, const FrameLog* frames) {
     EvalResult r;
     r.est_frames = est.size();
     r.gt_frames = gt.size();
@@ -78,8 +77,12 @@ void writeJson(JsonWriter& j, const EvalResult& r, bool with_curves) {
         curve(j, "f1_rot", r.rr);
     }
     if (r.map) {
-        j.key("map").beginObject().field("points", r.map->points).field("gt_points", r.map->gt_points);
-        j.field("outlier_percent", r.map->outlier_percent).field("median_dist_m", r.map->median_dist);
+        j.key("map")
+            .beginObject()
+            .field("points", r.map->points)
+            .field("gt_points", r.map->gt_points);
+        j.field("outlier_percent", r.map->outlier_percent)
+            .field("median_dist_m", r.map->median_dist);
         j.field("mean_dist_m", r.map->mean_dist).endObject();
     }
     if (r.timing) timing(j, "timing", *r.timing);
@@ -88,15 +91,19 @@ void writeJson(JsonWriter& j, const EvalResult& r, bool with_curves) {
         for (const auto& [name, t] : r.stages) timing(j, name, t);
         j.endObject();
     }
-    if (r.degenerate_frame_percent) j.field("degenerate_frame_percent", *r.degenerate_frame_percent);
+    if (r.degenerate_frame_percent)
+        j.field("degenerate_frame_percent", *r.degenerate_frame_percent);
     j.endObject();
 }
 
 std::string summaryMarkdown(const EvalResult& r) {
     std::string s = "| metric | value |\n|---|---|\n";
-    auto row = [&](const std::string& k, const std::string& v) { s += "| " + k + " | " + v + " |\n"; };
+    auto row = [&](const std::string& k, const std::string& v) {
+        s += "| " + k + " | " + v + " |\n";
+    };
     row("frames (estimate / GT / matched)", std::to_string(r.est_frames) + " / " +
-        std::to_string(r.gt_frames) + " / " + std::to_string(r.matched_frames));
+                                                std::to_string(r.gt_frames) + " / " +
+                                                std::to_string(r.matched_frames));
     if (r.matched_frames == 0) {
         row("ATE, RPE", "– (no estimate within the time tolerance of a GT pose)");
         row("Rp / Rr", "0.0000 / 0.0000");
@@ -116,7 +123,8 @@ std::string summaryMarkdown(const EvalResult& r) {
         row("ms/frame median / p95 / max, FPS",
             fmt("%.1f", r.timing->median_ms) + " / " + fmt("%.1f", r.timing->p95_ms) + " / " +
                 fmt("%.1f", r.timing->max_ms) + ", " + fmt("%.1f", r.timing->fps));
-    if (r.degenerate_frame_percent) row("frames with a degenerate axis [%]", fmt("%.1f", *r.degenerate_frame_percent));
+    if (r.degenerate_frame_percent)
+        row("frames with a degenerate axis [%]", fmt("%.1f", *r.degenerate_frame_percent));
     return s;
 }
 

@@ -44,7 +44,8 @@ FrameLog loadFrameLog(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw std::runtime_error(path + ": cannot open frames CSV");
     std::string line;
-    if (!std::getline(in, line)) throw std::runtime_error(path + ":1: empty file, expected a header");
+    if (!std::getline(in, line))
+        throw std::runtime_error(path + ":1: empty file, expected a header");
     const auto header = splitCsv(line);
     std::map<std::string, size_t> col;
     for (size_t k = 0; k < header.size(); ++k) col[header[k]] = k;
@@ -53,7 +54,8 @@ FrameLog loadFrameLog(const std::string& path) {
             throw std::runtime_error(path + ":1: missing column '" + std::string(need) + "'");
     FrameLog log;
     log.has_gamma = true;
-    for (int k = 0; k < 6; ++k) log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
+    for (int k = 0; k < 6; ++k)
+        log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
 
     size_t lineno = 1;
     while (std::getline(in, line)) {

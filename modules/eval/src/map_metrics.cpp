@@ -1,10 +1,10 @@
 // Map outlier % with a nanoflann kd-tree over the GT map (libnanoflann-dev, header-only).
-#include <nanoflann.hpp>
 #include <superloc/core/voxel.h>
 #include <superloc/eval/map_metrics.h>
 
 #include <algorithm>
 #include <cmath>
+#include <nanoflann.hpp>
 #include <stdexcept>
 
 namespace superloc::eval {
@@ -16,15 +16,18 @@ struct CloudAdaptor {
     size_t kdtree_get_point_count() const { return pts.size(); }
     float kdtree_get_pt(size_t i, size_t d) const { return pts[i][static_cast<int>(d)]; }
     template <class BBox>
-    bool kdtree_get_bbox(BBox&) const { return false; }
+    bool kdtree_get_bbox(BBox&) const {
+        return false;
+    }
 };
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<
-    nanoflann::L2_Simple_Adaptor<float, CloudAdaptor>, CloudAdaptor, 3, size_t>;
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, CloudAdaptor>,
+                                        CloudAdaptor, 3, size_t>;
 
 }  // namespace
 
-MapResult computeMapOutliers(
-    const PointCloud& est_map, const PointCloud& gt_map, double voxel, double threshold) {
+MapResult computeMapOutliers(const PointCloud& est_map, const PointCloud& gt_map, double voxel,
+                             double threshold) {
     if (gt_map.empty()) throw std::invalid_argument("ground-truth map has no points");
     if (est_map.empty()) throw std::invalid_argument("localized map has no points");
     const std::vector<uint32_t> keep =

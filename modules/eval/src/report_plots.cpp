@@ -9,9 +9,9 @@
 
 namespace superloc::eval {
 
-std::string trajectoryTopViewSvg(
-    const Trajectory& gt, const Trajectory& est, const std::vector<double>& min_trans_gamma,
-    const std::string& title) {
+std::string trajectoryTopViewSvg(const Trajectory& gt, const Trajectory& est,
+                                 const std::vector<double>& min_trans_gamma,
+                                 const std::string& title) {
     double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
     for (const Trajectory* tr : {&gt, &est})
         for (const auto& p : *tr) {
@@ -26,19 +26,23 @@ std::string trajectoryTopViewSvg(
     plot.setRange(x0 - pad, x1 + pad, y0 - pad, y1 + pad, true);
     plot.axes("x [m]", "y [m]");
     std::vector<double> gx, gy;
-    for (const auto& p : gt) gx.push_back(p.pose.translation().x()), gy.push_back(p.pose.translation().y());
+    for (const auto& p : gt)
+        gx.push_back(p.pose.translation().x()), gy.push_back(p.pose.translation().y());
     plot.polyline(gx, gy, "#9a9a9a", 3.0);
     const bool coloured = min_trans_gamma.size() == est.size();
     for (size_t i = 1; i < est.size(); ++i) {
         const Vec3d a = est[i - 1].pose.translation(), b = est[i].pose.translation();
-        plot.segment(a.x(), a.y(), b.x(), b.y(),
-                     coloured ? (std::isfinite(min_trans_gamma[i]) ? gammaColor(min_trans_gamma[i]) : "#444")
-                              : "#1f77b4",
-                     1.8);
+        plot.segment(
+            a.x(), a.y(), b.x(), b.y(),
+            coloured ? (std::isfinite(min_trans_gamma[i]) ? gammaColor(min_trans_gamma[i]) : "#444")
+                     : "#1f77b4",
+            1.8);
     }
     if (coloured)
-        plot.legend({{"ground truth", "#9a9a9a"}, {"min γ_xyz = 0", gammaColor(0)},
-                     {"min γ_xyz = 0.5", gammaColor(0.5)}, {"min γ_xyz = 1", gammaColor(1)}});
+        plot.legend({{"ground truth", "#9a9a9a"},
+                     {"min γ_xyz = 0", gammaColor(0)},
+                     {"min γ_xyz = 0.5", gammaColor(0.5)},
+                     {"min γ_xyz = 1", gammaColor(1)}});
     else
         plot.legend({{"ground truth", "#9a9a9a"}, {"estimate", "#1f77b4"}});
     return plot.str();
@@ -72,9 +76,8 @@ std::string gammaTimelineSvg(const FrameLog& log, double threshold, const std::s
     return stackSvg(panels);
 }
 
-std::string f1CurvesSvg(
-    const std::vector<std::pair<std::string, RobustnessCurve>>& curves, bool rotation,
-    const std::string& title) {
+std::string f1CurvesSvg(const std::vector<std::pair<std::string, RobustnessCurve>>& curves,
+                        bool rotation, const std::string& title) {
     SvgPlot plot(640, 400, title);
     plot.setRange(0, 1, 0, 1.05);
     plot.axes(std::string("strictness T (τ = exp(-10 T) ") + (rotation ? "rad)" : "m)"), "F1");
@@ -92,12 +95,12 @@ std::string f1CurvesSvg(
     return plot.str();
 }
 
-std::vector<double> minTranslationGamma(const Trajectory& traj, const FrameLog& log, double tolerance) {
+std::vector<double> minTranslationGamma(const Trajectory& traj, const FrameLog& log,
+                                        double tolerance) {
     std::vector<double> out(traj.size(), std::numeric_limits<double>::quiet_NaN());
     for (size_t i = 0; i < traj.size(); ++i) {
-        const auto it = std::lower_bound(
-            log.frames.begin(), log.frames.end(), traj[i].t,
-            [](const FrameRecord& f, double t) { return f.t < t; });
+        const auto it = std::lower_bound(log.frames.begin(), log.frames.end(), traj[i].t,
+                                         [](const FrameRecord& f, double t) { return f.t < t; });
         double best = tolerance;
         for (auto c : {it, it == log.frames.begin() ? log.frames.end() : std::prev(it)})
             if (c != log.frames.end() && std::abs(c->t - traj[i].t) <= best) {

@@ -64,9 +64,11 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     SuiteSpec s;
     s.path = path;
     if (!c.sectionExists("suite")) throw ConfigError(path + ": missing section [suite]");
-    checkKeys(c, "suite", {"methods", "sequences", "localize_config", "localize_set", "timeout"}, path);
+    checkKeys(c, "suite", {"methods", "sequences", "localize_config", "localize_set", "timeout"},
+              path);
     s.methods = words(value(c, "suite", "methods"));
-    if (s.methods.empty()) throw ConfigError(path + ": [suite] methods is required (e.g. superloc icp)");
+    if (s.methods.empty())
+        throw ConfigError(path + ": [suite] methods is required (e.g. superloc icp)");
     const std::string lc = value(c, "suite", "localize_config");
     if (lc.empty()) throw ConfigError(path + ": [suite] localize_config is required");
     s.localize_config = existing(base / lc, path + ": [suite] localize_config");
@@ -79,9 +81,12 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     for (const auto& name : names) {
         const std::string sec = "seq." + name;
         if (!c.sectionExists(sec))
-            throw ConfigError(path + ": [suite] sequences lists '" + name + "' but there is no [" + sec + "]");
-        checkKeys(c, sec, {"type", "config", "seed", "sim_set", "data", "scans", "gt", "prior_voxel",
-                           "gt_map_voxel", "localize_set"}, path);
+            throw ConfigError(path + ": [suite] sequences lists '" + name + "' but there is no [" +
+                              sec + "]");
+        checkKeys(c, sec,
+                  {"type", "config", "seed", "sim_set", "data", "scans", "gt", "prior_voxel",
+                   "gt_map_voxel", "localize_set"},
+                  path);
         SequenceSpec q;
         q.name = name;
         const std::string type = value(c, sec, "type");
@@ -99,7 +104,8 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
             q.data = existing(fs::path(data_dir) / value(c, sec, "data"), where + " data");
             q.gt = existing(fs::path(q.data) / value(c, sec, "gt"), where + " gt");
             if (q.kind == SequenceSpec::Kind::PcdDir)
-                q.scans = existing(fs::path(q.data) / value(c, sec, "scans", "scans"), where + " scans");
+                q.scans =
+                    existing(fs::path(q.data) / value(c, sec, "scans", "scans"), where + " scans");
             q.prior_voxel = number(c, sec, "prior_voxel", q.prior_voxel, path);
             q.gt_map_voxel = number(c, sec, "gt_map_voxel", q.gt_map_voxel, path);
         } else {
@@ -126,31 +132,45 @@ SequenceFiles sequenceFiles(const SequenceSpec& seq, const std::string& out_dir)
     return f;
 }
 
-std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq, const std::string& dir) {
-    std::vector<std::string> a = {tool, seq.config, "--out", dir, "--seed", std::to_string(seq.seed)};
+std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq,
+                                    const std::string& dir) {
+    std::vector<std::string> a = {tool, seq.config, "--out",
+                                  dir,  "--seed",   std::to_string(seq.seed)};
     for (const auto& s : seq.sim_sets) a.insert(a.end(), {"--set", s});
     return a;
 }
 
-std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq, const std::string& rawlog) {
+std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq,
+                                       const std::string& rawlog) {
     if (seq.kind == SequenceSpec::Kind::Kitti)
         return {tool, "--kitti", seq.data, "--poses", seq.gt, "--out", rawlog, "--quiet"};
     return {tool, "--pcd-dir", seq.scans, "--poses", seq.gt, "--out", rawlog, "--quiet"};
 }
 
 std::vector<std::string> mapCommand(const std::string& tool, const std::string& rawlog,
-                                    const std::string& poses, double voxel, const std::string& out) {
+                                    const std::string& poses, double voxel,
+                                    const std::string& out) {
     std::ostringstream v;
     v << voxel;
     return {tool, "--rawlog", rawlog, "--poses", poses, "--voxel", v.str(), "--out", out};
 }
 
-std::vector<std::string> localizeCommand(
-    const std::string& tool, const SuiteSpec& suite, const SequenceSpec& seq,
-    const std::string& method, const SequenceFiles& files, const std::string& out_dir) {
-    std::vector<std::string> a = {tool, suite.localize_config, "--rawlog", files.rawlog, "--map",
-                                  files.prior_map, "--method", method, "--out", out_dir,
-                                  "--initial-pose-tum", files.gt_tum, "--quiet"};
+std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpec& suite,
+                                         const SequenceSpec& seq, const std::string& method,
+                                         const SequenceFiles& files, const std::string& out_dir) {
+    std::vector<std::string> a = {tool,
+                                  suite.localize_config,
+                                  "--rawlog",
+                                  files.rawlog,
+                                  "--map",
+                                  files.prior_map,
+                                  "--method",
+                                  method,
+                                  "--out",
+                                  out_dir,
+                                  "--initial-pose-tum",
+                                  files.gt_tum,
+                                  "--quiet"};
     for (const auto& s : suite.localize_sets) a.insert(a.end(), {"--set", s});
     for (const auto& s : seq.localize_sets) a.insert(a.end(), {"--set", s});
     return a;

@@ -34,11 +34,16 @@ double tickStep(double range) {
 std::string xmlEscape(const std::string& s) {
     std::string o;
     for (char c : s) {
-        if (c == '&') o += "&amp;";
-        else if (c == '<') o += "&lt;";
-        else if (c == '>') o += "&gt;";
-        else if (c == '"') o += "&quot;";
-        else o += c;
+        if (c == '&')
+            o += "&amp;";
+        else if (c == '<')
+            o += "&lt;";
+        else if (c == '>')
+            o += "&gt;";
+        else if (c == '"')
+            o += "&quot;";
+        else
+            o += c;
     }
     return o;
 }
@@ -59,8 +64,12 @@ void SvgPlot::setRange(double x0, double x1, double y0, double y1, bool equal_as
     x0_ = x0, x1_ = x1, y0_ = y0, y1_ = y1;
 }
 
-double SvgPlot::px(double x) const { return left_ + (x - x0_) / (x1_ - x0_) * (w_ - left_ - right_); }
-double SvgPlot::py(double y) const { return h_ - bottom_ - (y - y0_) / (y1_ - y0_) * (h_ - top_ - bottom_); }
+double SvgPlot::px(double x) const {
+    return left_ + (x - x0_) / (x1_ - x0_) * (w_ - left_ - right_);
+}
+double SvgPlot::py(double y) const {
+    return h_ - bottom_ - (y - y0_) / (y1_ - y0_) * (h_ - top_ - bottom_);
+}
 
 void SvgPlot::axes(const std::string& xlabel, const std::string& ylabel) {
     std::string& b = body_;
@@ -111,8 +120,8 @@ void SvgPlot::polyline(const std::vector<double>& xs, const std::vector<double>&
 void SvgPlot::segment(double x0, double y0, double x1, double y1, const std::string& color,
                       double width) {
     body_ += "<line x1=\"" + num(px(x0)) + "\" y1=\"" + num(py(y0)) + "\" x2=\"" + num(px(x1)) +
-             "\" y2=\"" + num(py(y1)) + "\" stroke=\"" + color + "\" stroke-width=\"" +
-             num(width) + "\" stroke-linecap=\"round\"/>\n";
+             "\" y2=\"" + num(py(y1)) + "\" stroke=\"" + color + "\" stroke-width=\"" + num(width) +
+             "\" stroke-linecap=\"round\"/>\n";
 }
 
 void SvgPlot::spanX(double x0, double x1, const std::string& fill, double opacity) {
@@ -146,9 +155,11 @@ std::string SvgPlot::str() const { return stackSvg({*this}); }
 std::string stackSvg(const std::vector<SvgPlot>& plots) {
     double w = 0, h = 0;
     for (const auto& p : plots) w = std::max(w, p.width()), h += p.height();
-    std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-                    num(w) + "\" height=\"" + num(h) + "\" viewBox=\"0 0 " + num(w) + " " + num(h) +
-                    "\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    std::string s =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+        "width=\"" +
+        num(w) + "\" height=\"" + num(h) + "\" viewBox=\"0 0 " + num(w) + " " + num(h) +
+        "\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     double y = 0;
     for (const auto& p : plots) {
         s += "<g transform=\"translate(0," + num(y) + ")\">\n" + p.body() + "</g>\n";

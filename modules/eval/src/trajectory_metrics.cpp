@@ -17,9 +17,8 @@ Association associate(const Trajectory& est, const Trajectory& gt, double tolera
     std::vector<double> owner_dt(gt.size(), 0);
     for (size_t i = 0; i < est.size(); ++i) {
         // Nearest GT time: the first GT at or after t_est, or the one before it.
-        const auto it = std::lower_bound(
-            gt.begin(), gt.end(), est[i].t,
-            [](const PoseStamped& g, double t) { return g.t < t; });
+        const auto it = std::lower_bound(gt.begin(), gt.end(), est[i].t,
+                                         [](const PoseStamped& g, double t) { return g.t < t; });
         size_t best = SIZE_MAX;
         double best_dt = std::numeric_limits<double>::infinity();
         for (const auto cand : {it, it == gt.begin() ? gt.end() : std::prev(it)}) {
@@ -67,7 +66,8 @@ SE3d alignSE3(const Trajectory& est, const Trajectory& gt, const Association& a)
     return T;
 }
 
-AteResult computeAte(const Trajectory& est, const Trajectory& gt, const Association& a, bool align) {
+AteResult computeAte(const Trajectory& est, const Trajectory& gt, const Association& a,
+                     bool align) {
     AteResult r;
     if (align) r.T_gt_est = alignSE3(est, gt, a);
     std::vector<double> rot;

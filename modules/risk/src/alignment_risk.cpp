@@ -46,8 +46,8 @@ bool RiskReport::anyDegenerate() const {
     return false;
 }
 
-RiskReport computeAlignmentRisk(
-    const std::vector<Correspondence>& correspondences, const RiskParams& params) {
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences,
+                                const RiskParams& params) {
     RiskReport r;
     const size_t n = correspondences.size();
     r.translation_label.assign(n, kNoLabel);
@@ -119,10 +119,14 @@ std::string degenerateAxes(const RiskReport& report) {
 
 std::array<uint8_t, 3> observabilityColor(int translation_label) {
     switch (translation_label) {
-        case 0: return {255, 0, 0};
-        case 1: return {0, 255, 0};
-        case 2: return {0, 0, 255};
-        default: return {128, 128, 128};
+        case 0:
+            return {255, 0, 0};
+        case 1:
+            return {0, 255, 0};
+        case 2:
+            return {0, 0, 255};
+        default:
+            return {128, 128, 128};
     }
 }
 

@@ -16,13 +16,15 @@ void RiskParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, cons
 
 void RiskParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(
-        degenerate_threshold, "[-] an axis with confidence gamma below this is degenerate (paper: 0.2)");
+        degenerate_threshold,
+        "[-] an axis with confidence gamma below this is degenerate (paper: 0.2)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         weighted_labels, "[bool] a label counts its correspondence's fit weight instead of 1");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
-        rotation_labels, "[1|2] rotation labels per correspondence: 1 = largest torque axis, 2 = two largest");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(
-        keep_jacobians, "[bool] keep the per-correspondence Jacobian rows in the report");
+        rotation_labels,
+        "[1|2] rotation labels per correspondence: 1 = largest torque axis, 2 = two largest");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(keep_jacobians,
+                                 "[bool] keep the per-correspondence Jacobian rows in the report");
     MRPT_SAVE_CONFIG_VAR_COMMENT(
         hessian_eigen, "[bool] also compute the classic Hessian eigenvalues (comparison only)");
 }
@@ -30,12 +32,11 @@ void RiskParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::s
 void RiskParams::validate() const {
     if (!std::isfinite(degenerate_threshold) || degenerate_threshold < 0 ||
         degenerate_threshold > 1)
-        throw ConfigError(
-            "[risk] degenerate_threshold = " + std::to_string(degenerate_threshold) +
-            " must be in [0, 1] (gamma is a ratio in [0, 1]; the paper uses 0.2)");
+        throw ConfigError("[risk] degenerate_threshold = " + std::to_string(degenerate_threshold) +
+                          " must be in [0, 1] (gamma is a ratio in [0, 1]; the paper uses 0.2)");
     if (rotation_labels != 1 && rotation_labels != 2)
-        throw ConfigError(
-            "[risk] rotation_labels = " + std::to_string(rotation_labels) + " must be 1 or 2");
+        throw ConfigError("[risk] rotation_labels = " + std::to_string(rotation_labels) +
+                          " must be 1 or 2");
 }
 
 }  // namespace superloc::risk

@@ -16,7 +16,7 @@
 namespace superloc::eval {
 
 class BenchApp {
-   public:
+ public:
     /// Parses the command line and the suite file; throws std::invalid_argument or ConfigError
     /// with a one-line reason.
     void initialize(const std::vector<std::string>& args);
@@ -28,10 +28,10 @@ class BenchApp {
     SuiteSpec suite;
     std::string out_dir, data_dir, tools_dir;
     bool fresh = false, help = false;
-    std::vector<RunRecord> runs;  ///< filled by run()
+    std::vector<RunRecord> runs;     ///< filled by run()
     std::vector<std::string> plots;  ///< SVG files written (relative to out_dir)
 
-   private:
+ private:
     /// Simulates or imports + maps a sequence unless its files exist; "" or the failure.
     std::string prepare(const SequenceSpec& seq, const SequenceFiles& f, std::ostream& log);
     RunRecord runOne(const SequenceSpec& seq, const SequenceFiles& f, const std::string& method,

@@ -14,7 +14,7 @@
 namespace superloc::eval {
 
 class EvalApp {
-   public:
+ public:
     /// Parses the command line; throws std::invalid_argument (one line, naming the flag) or
     /// ConfigError on bad input.
     void initialize(const std::vector<std::string>& args);

@@ -21,18 +21,17 @@ struct EvalResult {
     bool aligned = false;
     AteResult ate;
     RpeResult rpe;
-    RobustnessCurve rp, rr;                  ///< Rp (translation, m) and Rr (rotation, rad)
-    std::optional<MapResult> map;            ///< when both maps were given
-    std::optional<TimingStats> timing;       ///< ms_total of the frame log
-    std::map<std::string, TimingStats> stages;  ///< every ms_* column of the frame log
+    RobustnessCurve rp, rr;                          ///< Rp (translation, m) and Rr (rotation, rad)
+    std::optional<MapResult> map;                    ///< when both maps were given
+    std::optional<TimingStats> timing;               ///< ms_total of the frame log
+    std::map<std::string, TimingStats> stages;       ///< every ms_* column of the frame log
     std::optional<double> degenerate_frame_percent;  ///< [%] frames with any axis flagged
 };
 
 /// Evaluates one run. `est_map`/`gt_map` and `frames` may be null.
-EvalResult evaluate(
-    const Trajectory& est, const Trajectory& gt, const EvalParams& params,
-    const PointCloud* est_map = nullptr, const PointCloud* gt_map = nullptr,
-    const FrameLog* frames = nullptr);
+EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParams& params,
+                    const PointCloud* est_map = nullptr, const PointCloud* gt_map = nullptr,
+                    const FrameLog* frames = nullptr);
 
 /// Writes the result as one JSON object (curves included when `with_curves`).
 void writeJson(JsonWriter& json, const EvalResult& r, bool with_curves = true);

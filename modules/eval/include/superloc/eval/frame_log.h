@@ -11,10 +11,10 @@
 namespace superloc::eval {
 
 struct FrameRecord {
-    double t = 0;                          ///< [s]
-    Vec6d gamma = Vec6d::Zero();           ///< confidence, (x y z roll pitch yaw)
-    std::array<bool, 6> degenerate{};      ///< parsed from the `degenerate` letters
-    double ms_total = 0;                   ///< [ms] wall time of the frame
+    double t = 0;                      ///< [s]
+    Vec6d gamma = Vec6d::Zero();       ///< confidence, (x y z roll pitch yaw)
+    std::array<bool, 6> degenerate{};  ///< parsed from the `degenerate` letters
+    double ms_total = 0;               ///< [ms] wall time of the frame
 };
 
 struct FrameLog {

@@ -8,7 +8,7 @@
 namespace superloc::eval {
 
 class JsonWriter {
-   public:
+ public:
     JsonWriter& beginObject();
     JsonWriter& endObject();
     JsonWriter& beginArray();
@@ -26,12 +26,14 @@ class JsonWriter {
     JsonWriter& array(const std::vector<double>& v);
     /// key(k).value(v) in one call.
     template <class T>
-    JsonWriter& field(const std::string& k, const T& v) { return key(k).value(v); }
+    JsonWriter& field(const std::string& k, const T& v) {
+        return key(k).value(v);
+    }
 
     /// The document so far (complete once every object/array is closed).
     const std::string& str() const { return out_; }
 
-   private:
+ private:
     void beforeValue();
     JsonWriter& close(char bracket);
     void newline();

@@ -22,8 +22,8 @@ struct F1Point {
 F1Point f1At(const std::vector<double>& errors, size_t gt_steps, double tau);
 
 struct RobustnessCurve {
-    double area = 0;              ///< Rp or Rr, in [0, 1 - exp(-10)]
-    std::vector<F1Point> curve;   ///< one point per bin, tau decreasing (T increasing)
+    double area = 0;             ///< Rp or Rr, in [0, 1 - exp(-10)]
+    std::vector<F1Point> curve;  ///< one point per bin, tau decreasing (T increasing)
 };
 
 /// Area under F1(tau) for tau in [exp(-10), 1]: T in [0, 1] is cut into `bins` equal bins; bin

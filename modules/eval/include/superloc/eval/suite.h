@@ -27,21 +27,21 @@ struct SequenceSpec {
     enum class Kind { Sim, Kitti, PcdDir };
     std::string name;
     Kind kind = Kind::Sim;
-    std::string config;                   ///< sim: scenario INI (absolute)
-    int seed = 1;                         ///< sim: --seed
-    std::vector<std::string> sim_sets;    ///< sim: extra --set section.key=value
-    std::string data;                     ///< real: data folder (absolute)
-    std::string scans;                    ///< pcd: scan folder (absolute)
-    std::string gt;                       ///< real: GT TUM (absolute)
-    double prior_voxel = 0.1;             ///< [m] real: voxel of the prior map built from the scans
-    double gt_map_voxel = 0.02;           ///< [m] real: voxel of the GT map built from the scans
+    std::string config;                 ///< sim: scenario INI (absolute)
+    int seed = 1;                       ///< sim: --seed
+    std::vector<std::string> sim_sets;  ///< sim: extra --set section.key=value
+    std::string data;                   ///< real: data folder (absolute)
+    std::string scans;                  ///< pcd: scan folder (absolute)
+    std::string gt;                     ///< real: GT TUM (absolute)
+    double prior_voxel = 0.1;           ///< [m] real: voxel of the prior map built from the scans
+    double gt_map_voxel = 0.02;         ///< [m] real: voxel of the GT map built from the scans
     std::vector<std::string> localize_sets;  ///< extra --set for this sequence's localize runs
 };
 
 struct SuiteSpec {
-    std::string path;                     ///< the suite file
+    std::string path;  ///< the suite file
     std::vector<std::string> methods;
-    std::string localize_config;          ///< absolute
+    std::string localize_config;  ///< absolute
     std::vector<std::string> localize_sets;
     double timeout_s = 900;
     EvalParams eval;
@@ -60,13 +60,15 @@ struct SequenceFiles {
 SequenceFiles sequenceFiles(const SequenceSpec& seq, const std::string& out_dir);
 
 /// Command lines (argv) of the apps, DESIGN §9. `tool` is the executable's path.
-std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq, const std::string& dir);
-std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq, const std::string& rawlog);
+std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq,
+                                    const std::string& dir);
+std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq,
+                                       const std::string& rawlog);
 std::vector<std::string> mapCommand(const std::string& tool, const std::string& rawlog,
                                     const std::string& poses, double voxel, const std::string& out);
-std::vector<std::string> localizeCommand(
-    const std::string& tool, const SuiteSpec& suite, const SequenceSpec& seq,
-    const std::string& method, const SequenceFiles& files, const std::string& out_dir);
+std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpec& suite,
+                                         const SequenceSpec& seq, const std::string& method,
+                                         const SequenceFiles& files, const std::string& out_dir);
 
 /// argv joined for a log line, with arguments containing blanks quoted.
 std::string joinCommand(const std::vector<std::string>& argv);

@@ -9,7 +9,7 @@
 namespace superloc::eval {
 
 class SvgPlot {
-   public:
+ public:
     SvgPlot(double width_px, double height_px, const std::string& title);
 
     /// Data range shown; with equal_aspect the range is widened so 1 m is as long in x as in y.
@@ -33,7 +33,7 @@ class SvgPlot {
     /// A complete standalone SVG document.
     std::string str() const;
 
-   private:
+ private:
     double px(double x) const;
     double py(double y) const;
     double w_, h_;

@@ -31,8 +31,8 @@ ErrorStats errorStats(std::vector<double> values);
 
 /// Absolute trajectory error over the associated pairs.
 struct AteResult {
-    ErrorStats trans;       ///< [m] |t_gt - t_est'|
-    ErrorStats rot;         ///< [rad] angle of R_gt^T R_est'
+    ErrorStats trans;                  ///< [m] |t_gt - t_est'|
+    ErrorStats rot;                    ///< [rad] angle of R_gt^T R_est'
     SE3d T_gt_est = SE3d::Identity();  ///< alignment applied to the estimate (identity if none)
     std::vector<double> trans_errors;  ///< [m] per pair, in pair order
 };

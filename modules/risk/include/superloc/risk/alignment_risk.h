@@ -86,8 +86,8 @@ struct RiskReport {
 };
 
 /// The risk step: labels, counts, gamma, flags and Hessian eigen-analysis.
-RiskReport computeAlignmentRisk(
-    const std::vector<Correspondence>& correspondences, const RiskParams& params);
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences,
+                                const RiskParams& params);
 
 /// The flagged axes as letters in 6-vector order, e.g. "x", "xyaw", "" when none
 /// (the `degenerate` column of frames.csv).
