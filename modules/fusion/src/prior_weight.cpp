@@ -12,6 +12,9 @@ namespace superloc::fusion {
 void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                             const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(prior_scale, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(prior_cap_by_odom_cov, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(odom_sigma_min_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(odom_sigma_min_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(passive_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(passive_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(eigen_threshold, double, c, s);
@@ -20,6 +23,10 @@ void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                           const std::string& s) const {
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_scale, "[-] superloc: multiplies s_k of W = (1-gamma) s");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_cap_by_odom_cov,
+                                 "superloc: cap s_k by odom_alt's reported per-frame information");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(odom_sigma_min_xyz, "[m] floor of odom_alt's per-frame std");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(odom_sigma_min_rot_deg, "[deg] floor of its rotation std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold,
@@ -34,6 +41,8 @@ void ActiveFusionParams::validate() const {
     positive(passive_sigma_xyz, "passive_sigma_xyz");
     positive(passive_sigma_rot_deg, "passive_sigma_rot_deg");
     if (!(eigen_threshold >= 0)) throw ConfigError("[fusion] eigen_threshold must be >= 0");
+    positive(odom_sigma_min_xyz, "odom_sigma_min_xyz");
+    positive(odom_sigma_min_rot_deg, "odom_sigma_min_rot_deg");
 }
 
 Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T, double sigma,
@@ -63,6 +72,22 @@ Vec6d priorScale(const Mat6d& H) {
     s.head<3>().setConstant(H.topLeftCorner<3, 3>().trace() / 3.0);
     s.tail<3>().setConstant(H.bottomRightCorner<3, 3>().trace() / 3.0);
     return s;
+}
+
+Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p) {
+    Vec6d sigma;
+    for (int k = 0; k < 6; ++k) {
+        const double floor = k < 3 ? p.odom_sigma_min_xyz : p.odom_sigma_min_rot_deg * M_PI / 180.0;
+        const double grow = std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+        sigma[k] = std::max(floor, std::isfinite(grow) ? grow : floor);
+    }
+    return sigma;
+}
+
+Vec6d capScale(const Vec6d& s, const Vec6d& sigma) {
+    Vec6d out;
+    for (int k = 0; k < 6; ++k) out[k] = std::min(s[k], 1.0 / (sigma[k] * sigma[k]));
+    return out;
 }
 
 Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s) {

@@ -5,6 +5,9 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/localizer.h>
 
+#include <algorithm>
+#include <iterator>
+
 namespace superloc::localization {
 
 std::vector<risk::Correspondence> Localizer::riskInputs(const SE3d& T, const Vec3d& origin) const {
@@ -42,6 +45,18 @@ std::optional<SE3d> Localizer::odomAltDelta(double t0, double t1) const {
     return orthonormalize(a->inverse() * *b);
 }
 
+std::optional<Mat6d> Localizer::odomAltCovAt(double t) const {
+    // Linear interpolation of the reported covariance between the samples around t.
+    const auto it = std::lower_bound(odom_alt_.begin(), odom_alt_.end(), t,
+                                     [](const PoseStamped& p, double tt) { return p.t < tt; });
+    if (it == odom_alt_.end() || !it->cov) return std::nullopt;
+    if (it == odom_alt_.begin() || it->t == t) return it->cov;
+    const auto prev = std::prev(it);
+    if (!prev->cov || !(it->t > prev->t)) return it->cov;
+    const double f = (t - prev->t) / (it->t - prev->t);
+    return Mat6d((1 - f) * *prev->cov + f * *it->cov);
+}
+
 std::optional<SE3d> Localizer::odomAltForFrame() const {
     const auto d = odomAltDelta(prev_.t, cur_.t);
     // Issue 5: say once when odom_alt is absent or a gap starts, and when it is back; the frame
@@ -77,7 +92,13 @@ std::optional<fusion::RelativePosePrior> Localizer::activePrior(const risk::Risk
         // DESIGN §5 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
         // information per axis of the group, at the predicted pose (doc/method.md §2).
         const Mat6d H = fusion::scanInformation(corr_, cur_.T_map_imu(), params_.fusion.scan_sigma);
-        W = fusion::activeInformation(risk.gamma, ap.prior_scale * fusion::priorScale(H));
+        Vec6d s = ap.prior_scale * fusion::priorScale(H);
+        // Never more than odom_alt itself claims over this frame (when it reports a covariance).
+        if (ap.prior_cap_by_odom_cov) {
+            const auto c0 = odomAltCovAt(prev_.t), c1 = odomAltCovAt(cur_.t);
+            if (c0 && c1) s = fusion::capScale(s, fusion::odomIncrementSigma(*c0, *c1, ap));
+        }
+        W = fusion::activeInformation(risk.gamma, s);
         if (!(W.maxCoeff() > 0)) return std::nullopt;  // well constrained everywhere
     }
     fusion::RelativePosePrior p;

@@ -23,6 +23,11 @@ namespace superloc::fusion {
 /// Keys of section [fusion] for the prior of the active-fusion methods.
 struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     double prior_scale = 1.0;            ///< [-] multiplies s_k (superloc)
+    /// superloc: s_k is capped by odom_alt's own information over the frame, 1 / sigma_k^2 with
+    /// sigma_k the growth of its reported std between the two scan times (when it reports one)
+    bool prior_cap_by_odom_cov = true;
+    double odom_sigma_min_xyz = 0.001;      ///< [m] floor of that sigma (translation)
+    double odom_sigma_min_rot_deg = 0.01;   ///< [deg] floor of that sigma (rotation)
     double passive_sigma_xyz = 0.02;     ///< [m] per-frame std of the passive prior's translation
     double passive_sigma_rot_deg = 0.2;  ///< [deg] per-frame std of its rotation
     /// [-] eigen_remap: eigenvalue threshold on H / sum(w) (mean information per correspondence,
@@ -45,6 +50,14 @@ Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T
 /// s_k = tr(H_tt) / 3 for x, y, z and tr(H_rr) / 3 for roll, pitch, yaw: the mean information
 /// one axis of the group receives from the scan.
 Vec6d priorScale(const Mat6d& H);
+
+/// Per-frame std of odom_alt from the covariances it reports at the two scan times: the growth
+/// of the std, sqrt(cov1_kk) - sqrt(cov0_kk) (the simulator's covariance is an accumulated
+/// drift bound), floored by the INI minimums.
+Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p);
+
+/// s_k capped by 1 / sigma_k^2.
+Vec6d capScale(const Vec6d& s, const Vec6d& sigma);
 
 /// W_k = max(0, 1 - gamma_k) * s_k (DESIGN §5; paper Cov_prior = I - Sigma_cov read as weight).
 Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s);

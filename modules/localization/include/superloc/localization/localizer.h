@@ -99,6 +99,8 @@ class Localizer : public mrpt::system::COutputLogger {
     /// The odom_alt delta for the current frame, logging when odom_alt is absent or a gap
     /// starts / ends (once per episode, not per frame).
     std::optional<SE3d> odomAltForFrame() const;
+    /// odom_alt's reported covariance interpolated at t, when its samples carry one.
+    std::optional<Mat6d> odomAltCovAt(double t) const;
     std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
 
     LocalizerParams params_;
