@@ -1,11 +1,13 @@
 // superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (DESIGN §8).
 #include <superloc/eval/bench_app.h>
 #include <superloc/eval/eval_app.h>
+#include <superloc/eval/process.h>
 
 #include <iostream>
 
 int main(int argc, char** argv) {
     try {
+        superloc::eval::killChildOnTermination();
         superloc::eval::BenchApp app;
         app.data_dir = SUPERLOC_DEFAULT_DATA;
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));

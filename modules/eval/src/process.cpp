@@ -14,6 +14,22 @@
 
 namespace superloc::eval {
 namespace fs = std::filesystem;
+namespace {
+volatile sig_atomic_t g_child = 0;  ///< pid of the running child, 0 when none
+
+void onTermination(int sig) {
+    if (g_child > 0) ::kill(static_cast<pid_t>(g_child), SIGKILL);
+    ::_exit(128 + sig);
+}
+}  // namespace
+
+void killChildOnTermination() {
+    struct sigaction sa {};
+    sa.sa_handler = onTermination;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGINT, &sa, nullptr);
+    ::sigaction(SIGTERM, &sa, nullptr);
+}
 
 ProcessResult runProcess(const std::vector<std::string>& argv, const std::string& log_path,
                          double timeout_s) {
@@ -39,6 +55,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         ::_exit(127);
     }
     ::close(log_fd);
+    g_child = pid;
     int status = 0;
     struct rusage ru {};
     for (;;) {
@@ -52,6 +69,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
+    g_child = 0;
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.peak_rss_mb = double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
     if (WIFEXITED(status))

@@ -21,6 +21,10 @@ struct ProcessResult {
 ProcessResult runProcess(const std::vector<std::string>& argv, const std::string& log_path,
                          double timeout_s);
 
+/// Installs SIGINT/SIGTERM handlers that kill the running child of runProcess (by its pid) and
+/// exit with 128 + signal, so stopping superloc-bench does not leave a localizer running.
+void killChildOnTermination();
+
 /// Path of a SuperLoc executable: `dir/name`, then `dir/../name/name` (the build tree's
 /// apps/<name>/<name>), then the PATH. Empty when not found.
 std::string findTool(const std::string& name, const std::string& dir);
