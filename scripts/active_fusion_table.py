@@ -15,7 +15,7 @@ for w in sorted(os.listdir(out)):
     wdir = os.path.join(out, w)
     if not os.path.isdir(wdir):
         continue
-    for m in ["icp", "ndt", "superloc", "passive", "eigen_remap"]:
+    for m in ["icp", "ndt", "superloc", "superloc_nocap", "passive", "eigen_remap", "eigen_remap_t0.01"]:
         d = os.path.join(wdir, m)
         if not os.path.exists(os.path.join(d, "eval.json")):
             continue
