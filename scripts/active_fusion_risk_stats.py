@@ -4,7 +4,8 @@
             gamma_x >= 0.2 in the structured parts (within 10 m of the closed start or of the
             facade, |y| < 2 m) and in the open area (x > 102 m)
   office:   share of frames with no axis flagged
-  multifloor: share of frames flagging z on the stairs (GT |dz/dt| > 0.1 m/s) and elsewhere
+  multifloor: share of frames flagging z on the stairs (GT |dz/dt| > 0.1 m/s) and elsewhere,
+              and by place (shaft, ground-floor and top-floor hallway)
   every world: median / p95 ms_risk
 Usage: active_fusion_risk_stats.py WORLD FRAMES_CSV GT_TUM"""
 import bisect
@@ -50,6 +51,13 @@ elif world == "multifloor":
         (stairs if abs(vz) > 0.1 else flat).append(r)
     print("  on the stairs, z flagged:", share(stairs, lambda r: "z" in r["degenerate"]))
     print("  elsewhere, z flagged:", share(flat, lambda r: "z" in r["degenerate"]))
+    # By place: the stairwell shaft (GT x > 0.2 m: flights and landings) and the two hallways.
+    place = {"shaft": [], "ground-floor hallway": [], "top-floor hallway": []}
+    for r in rows:
+        g = gt_at(float(r["t"]))
+        place["shaft" if g[1] > 0.2 else ("top-floor hallway" if g[3] > 6 else "ground-floor hallway")].append(r)
+    for k, v in place.items():
+        print(f"  {k}, z flagged:", share(v, lambda r: "z" in r["degenerate"]))
 else:
     from collections import Counter
     print("  flags:", Counter(r["degenerate"] for r in rows).most_common(5))
