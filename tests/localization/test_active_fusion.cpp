@@ -348,3 +348,24 @@ TEST(ActiveFusion, OdomAltGapSkipsThePriorThenResumes) {
     EXPECT_GE(sl.flagged_x, sl.frames - 1);
     EXPECT_LT(sl.max_err_yz, 0.01);
 }
+
+TEST(PriorWeight, CapByOdomAltCovariance) {
+    // odom_alt reports an accumulated drift bound: std 0.10 m at t_prev, 0.11 m at t_cur -> the
+    // frame's std is 1 cm (information 1e4); rotation grows by less than the 0.01 deg floor.
+    ActiveFusionParams ap;
+    Mat6d c0 = Mat6d::Zero(), c1 = Mat6d::Zero();
+    c0.diagonal() << Vec3d::Constant(0.10 * 0.10), Vec3d::Constant(1e-6);
+    c1.diagonal() << Vec3d::Constant(0.11 * 0.11), Vec3d::Constant(1e-6 + 1e-12);
+    const Vec6d sigma = odomIncrementSigma(c0, c1, ap);
+    EXPECT_NEAR(sigma[0], 0.01, 1e-12);
+    EXPECT_NEAR(sigma[5], 0.01 * kDeg, 1e-12);  // floored
+    // Shrinking covariance (a reset) gives the floor, not a negative std.
+    EXPECT_NEAR(odomIncrementSigma(c1, c0, ap)[0], ap.odom_sigma_min_xyz, 1e-12);
+    Vec6d s;
+    s << 1e5, 1e3, 1e5, 1e9, 1e9, 10;
+    const Vec6d capped = capScale(s, sigma);
+    EXPECT_NEAR(capped[0], 1e4, 1e-6);  // capped by odom_alt's 1 cm
+    EXPECT_EQ(capped[1], 1e3);          // the scan scale is already lower
+    EXPECT_NEAR(capped[3], 1 / std::pow(0.01 * kDeg, 2), 1e-3);
+    EXPECT_EQ(capped[5], 10);
+}
