@@ -1,7 +1,8 @@
 // Active sensor fusion (issue 5, DESIGN §5-6): the prior information W = diag(max(0, 1-gamma)) s,
 // the scan information it is scaled to, Zhang's eigen remap, the observability scan, and the
-// methods superloc / passive / eigen_remap in the Localizer on a synthetic corridor (x unobservable).
-// The risk scenes themselves (plane -> x y yaw, corridor -> x, room -> none) are in tests/risk.
+// methods superloc / passive / eigen_remap in the Localizer on a synthetic corridor (x
+// unobservable). The risk scenes themselves (plane -> x y yaw, corridor -> x, room -> none) are in
+// tests/risk.
 #include <gtest/gtest.h>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
@@ -72,9 +73,9 @@ TEST(PriorWeight, InformationIsOneMinusGammaTimesScale) {
     gamma << 0.0, 0.5, 1.0, 1.0, 0.19, 0.9;
     s << 100, 100, 100, 4000, 4000, 4000;
     const Vec6d W = activeInformation(gamma, s);
-    EXPECT_DOUBLE_EQ(W[0], 100);   // fully degenerate: the whole scale
+    EXPECT_DOUBLE_EQ(W[0], 100);  // fully degenerate: the whole scale
     EXPECT_DOUBLE_EQ(W[1], 50);
-    EXPECT_DOUBLE_EQ(W[2], 0);     // well constrained: no prior at all
+    EXPECT_DOUBLE_EQ(W[2], 0);  // well constrained: no prior at all
     EXPECT_DOUBLE_EQ(W[3], 0);
     EXPECT_NEAR(W[4], 0.81 * 4000, 1e-9);
     EXPECT_NEAR(W[5], 0.1 * 4000, 1e-9);
@@ -107,8 +108,10 @@ TEST(PriorWeight, ScanInformationMatchesNumericBodyJacobian) {
             Vec6d d = Vec6d::Zero();
             d[k] = 1e-6;
             double rp, rm;
-            correspondenceResidual(c, (T * fromVec6(d)).linear(), (T * fromVec6(d)).translation(), &rp, nullptr);
-            correspondenceResidual(c, (T * fromVec6(-d)).linear(), (T * fromVec6(-d)).translation(), &rm, nullptr);
+            correspondenceResidual(c, (T * fromVec6(d)).linear(), (T * fromVec6(d)).translation(),
+                                   &rp, nullptr);
+            correspondenceResidual(c, (T * fromVec6(-d)).linear(), (T * fromVec6(-d)).translation(),
+                                   &rm, nullptr);
             row[k] = (rp - rm) / 2e-6;
         }
         Hn += c.weight * row * row.transpose() / (sigma * sigma);
@@ -166,7 +169,8 @@ TEST(PriorWeight, CorridorPriorWinsOnXOnly) {
     const Vec6d e_with = toVec6(T_true.inverse() * with);
     const Vec6d e_without = toVec6(T_true.inverse() * without);
     EXPECT_NEAR(e_with[0], 0.2, 1e-3);  // the prior wins on x
-    for (int k = 1; k < 3; ++k) EXPECT_LT(std::abs(e_with[k] - e_without[k]), 1e-3) << kAxisNames[k];
+    for (int k = 1; k < 3; ++k)
+        EXPECT_LT(std::abs(e_with[k] - e_without[k]), 1e-3) << kAxisNames[k];
     for (int k = 3; k < 6; ++k)
         EXPECT_LT(std::abs(e_with[k] - e_without[k]) / kDeg, 0.01) << kAxisNames[k];
     for (int k = 1; k < 3; ++k) EXPECT_LT(std::abs(e_with[k]), 1e-3) << kAxisNames[k];
@@ -195,8 +199,9 @@ TEST(EigenRemap, ProjectsOutTheWeakEigenDirection) {
 
 TEST(ObservabilityScan, VoxelMajorityColourAndPly) {
     localization::ObservabilityScan obs(0.5);
-    obs.add({Vec3f(0.1f, 0.1f, 0.1f), Vec3f(0.2f, 0.1f, 0.1f), Vec3f(0.3f, 0.2f, 0.1f), Vec3f(5, 0, 0)},
-            {0, 1, 1, 2});
+    obs.add(
+        {Vec3f(0.1f, 0.1f, 0.1f), Vec3f(0.2f, 0.1f, 0.1f), Vec3f(0.3f, 0.2f, 0.1f), Vec3f(5, 0, 0)},
+        {0, 1, 1, 2});
     obs.add({Vec3f(5.1f, 0.1f, 0), Vec3f(9, 9, 9)}, {2, risk::kNoLabel});
     ASSERT_EQ(obs.size(), 3u);
     const PointCloud c = obs.cloud();
@@ -246,8 +251,10 @@ Scan corridorScan(const SE3d& T, double t) {
 std::shared_ptr<map::PriorMap> corridorMap() {
     PointCloud c;
     for (double x = -20; x <= 40; x += 0.1) {
-        for (double z = -1; z <= 2; z += 0.1) c.points.emplace_back(x, -2, z), c.points.emplace_back(x, 2, z);
-        for (double y = -2; y <= 2; y += 0.1) c.points.emplace_back(x, y, -1), c.points.emplace_back(x, y, 2);
+        for (double z = -1; z <= 2; z += 0.1)
+            c.points.emplace_back(x, -2, z), c.points.emplace_back(x, 2, z);
+        for (double y = -2; y <= 2; y += 0.1)
+            c.points.emplace_back(x, y, -1), c.points.emplace_back(x, y, 2);
     }
     map::MapParams mp;
     mp.voxel_size = 0.1;
@@ -276,7 +283,8 @@ CorridorRun runCorridor(const std::shared_ptr<map::PriorMap>& map, const std::st
         if (odom_alt)  // 20 Hz, in its own frame (offset from the map)
             for (double to = t - 0.1 + 0.05; to <= t + 1e-9; to += 0.05)
                 if (to <= gap_from || to >= gap_to)
-                    loc.addOdomAlt({to, makePoseRPY(5, -3, 1, 0, 0, 1.0) * corridorMotion(to), std::nullopt});
+                    loc.addOdomAlt(
+                        {to, makePoseRPY(5, -3, 1, 0, 0, 1.0) * corridorMotion(to), std::nullopt});
         const SE3d truth = corridorMotion(t);
         const auto r = loc.process(corridorScan(truth, t));
         const Vec3d e = r.T_map_lidar.translation() - truth.translation();
@@ -343,7 +351,8 @@ TEST(ActiveFusion, WithoutOdomAltTheFlagsStayAndNoPriorIsUsed) {
 TEST(ActiveFusion, OdomAltGapSkipsThePriorThenResumes) {
     // odom_alt missing for 0.8 s (> the 0.5 s interpolation limit) around frames 10-17.
     const CorridorRun sl = runCorridor(corridorMap(), "superloc", true, 0.95, 1.75);
-    for (int k : sl.prior_frames) EXPECT_TRUE(k < 10 || k > 17) << "prior used in the gap, frame " << k;
+    for (int k : sl.prior_frames)
+        EXPECT_TRUE(k < 10 || k > 17) << "prior used in the gap, frame " << k;
     EXPECT_GE(sl.prior_used, 15u);  // before and after the gap
     EXPECT_GE(sl.flagged_x, sl.frames - 1);
     EXPECT_LT(sl.max_err_yz, 0.01);

@@ -29,8 +29,7 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(odom_sigma_min_rot_deg, "[deg] floor of its rotation std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold,
-                                 "[-] eigen_remap: min eigenvalue of H / sum(w)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min eigenvalue of H / sum(w)");
 }
 
 void ActiveFusionParams::validate() const {
@@ -48,7 +47,8 @@ void ActiveFusionParams::validate() const {
 Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T, double sigma,
                       const std::vector<double>* sqrt_w) {
     // The scan factor's analytic Jacobian is w.r.t. PoseManifold's [dt (map), dtheta (body)];
-    // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0 I].
+    // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0
+    // I].
     const Mat3d R = T.linear();
     Mat6d H = Mat6d::Zero();
     double r[3], J[18];
@@ -78,7 +78,8 @@ Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusio
     Vec6d sigma;
     for (int k = 0; k < 6; ++k) {
         const double floor = k < 3 ? p.odom_sigma_min_xyz : p.odom_sigma_min_rot_deg * M_PI / 180.0;
-        const double grow = std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+        const double grow =
+            std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
         sigma[k] = std::max(floor, std::isfinite(grow) ? grow : floor);
     }
     return sigma;

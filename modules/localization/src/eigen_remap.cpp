@@ -18,7 +18,8 @@ void Localizer::remapUpdate(const fusion::FrameState& prev_saved, const SE3d& T_
     double wsum = 0;
     for (double w : scan.sqrtWeights()) wsum += w * w;
     if (!(wsum > 0)) return;
-    const Mat6d H = fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights()) / wsum;
+    const Mat6d H =
+        fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights()) / wsum;
     const auto delta = have_prev_ ? odomAltForFrame() : std::nullopt;
     const SE3d T_ref = delta ? SE3d(prev_saved.T_map_imu() * *delta) : T_before;
     const auto r = fusion::eigenRemap(T_ref, T_solved, H, params_.fusion.active.eigen_threshold);

@@ -20,14 +20,20 @@ std::vector<risk::Correspondence> Localizer::riskInputs(const SE3d& T, const Vec
         const Vec3d x = T * c.p;
         Vec3d n;
         switch (c.type) {
-            case features::FeatureType::Plane: n = c.n; r.type = risk::CorrespondenceType::Plane; break;
+            case features::FeatureType::Plane:
+                n = c.n;
+                r.type = risk::CorrespondenceType::Plane;
+                break;
             case features::FeatureType::Line: {
                 const Vec3d e = x - c.q;
                 n = e - e.dot(c.n) * c.n;
                 r.type = risk::CorrespondenceType::Line;
                 break;
             }
-            default: n = x - c.q; r.type = risk::CorrespondenceType::Point; break;
+            default:
+                n = x - c.q;
+                r.type = risk::CorrespondenceType::Point;
+                break;
         }
         n = Rt * n;
         if (n.dot(r.p) > 0) n = -n;  // toward the sensor
@@ -63,11 +69,13 @@ std::optional<SE3d> Localizer::odomAltForFrame() const {
     // goes on without the prior (its degenerate flags are still reported in frames.csv).
     if (!d && odom_alt_state_ >= 0) {
         if (odom_alt_.empty())
-            MRPT_LOG_WARN_FMT("t=%.3f: no odom_alt in the rawlog: %s runs without the relative-pose prior",
-                              cur_.t, methodName(method_));
+            MRPT_LOG_WARN_FMT(
+                "t=%.3f: no odom_alt in the rawlog: %s runs without the relative-pose prior",
+                cur_.t, methodName(method_));
         else
-            MRPT_LOG_WARN_FMT("t=%.3f: odom_alt does not cover %.3f..%.3f (gap or end): no prior until it does",
-                              cur_.t, prev_.t, cur_.t);
+            MRPT_LOG_WARN_FMT(
+                "t=%.3f: odom_alt does not cover %.3f..%.3f (gap or end): no prior until it does",
+                cur_.t, prev_.t, cur_.t);
         odom_alt_state_ = -1;
     } else if (d && odom_alt_state_ < 0) {
         MRPT_LOG_INFO_FMT("t=%.3f: odom_alt available again", cur_.t);
@@ -78,7 +86,8 @@ std::optional<SE3d> Localizer::odomAltForFrame() const {
     return d;
 }
 
-std::optional<fusion::RelativePosePrior> Localizer::activePrior(const risk::RiskReport& risk) const {
+std::optional<fusion::RelativePosePrior> Localizer::activePrior(
+    const risk::RiskReport& risk) const {
     // icp and ndt use no prior; eigen_remap uses odom_alt in remapUpdate() instead of a factor.
     if (method_ != Method::SuperLoc && method_ != Method::Passive) return std::nullopt;
     if (!have_prev_) return std::nullopt;  // first frame: no previous state

@@ -43,7 +43,9 @@ void ObservabilityScan::write(const std::string& path) const {
     io::savePointCloud(tmp, cloud(), io::CloudFormat::Ply);
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
-    if (ec) throw std::runtime_error(path + ": cannot write the observability scan (" + ec.message() + ")");
+    if (ec)
+        throw std::runtime_error(path + ": cannot write the observability scan (" + ec.message() +
+                                 ")");
 }
 
 }  // namespace superloc::localization

@@ -22,14 +22,14 @@ namespace superloc::fusion {
 
 /// Keys of section [fusion] for the prior of the active-fusion methods.
 struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
-    double prior_scale = 1.0;            ///< [-] multiplies s_k (superloc)
+    double prior_scale = 1.0;  ///< [-] multiplies s_k (superloc)
     /// superloc: s_k is capped by odom_alt's own information over the frame, 1 / sigma_k^2 with
     /// sigma_k the growth of its reported std between the two scan times (when it reports one)
     bool prior_cap_by_odom_cov = true;
-    double odom_sigma_min_xyz = 0.001;      ///< [m] floor of that sigma (translation)
-    double odom_sigma_min_rot_deg = 0.01;   ///< [deg] floor of that sigma (rotation)
-    double passive_sigma_xyz = 0.02;     ///< [m] per-frame std of the passive prior's translation
-    double passive_sigma_rot_deg = 0.2;  ///< [deg] per-frame std of its rotation
+    double odom_sigma_min_xyz = 0.001;     ///< [m] floor of that sigma (translation)
+    double odom_sigma_min_rot_deg = 0.01;  ///< [deg] floor of that sigma (rotation)
+    double passive_sigma_xyz = 0.02;       ///< [m] per-frame std of the passive prior's translation
+    double passive_sigma_rot_deg = 0.2;    ///< [deg] per-frame std of its rotation
     /// [-] eigen_remap: eigenvalue threshold on H / sum(w) (mean information per correspondence,
     /// sigma removed: translation eigenvalues are shares in [0, 1], rotation ones m^2)
     double eigen_threshold = 0.05;
@@ -69,8 +69,8 @@ Vec6d passiveInformation(const ActiveFusionParams& p);
 Mat6d sqrtInfo(const Vec6d& W);
 
 struct RemapResult {
-    SE3d T = SE3d::Identity();   ///< remapped pose
-    int removed = 0;             ///< eigen-directions below the threshold
+    SE3d T = SE3d::Identity();          ///< remapped pose
+    int removed = 0;                    ///< eigen-directions below the threshold
     Vec6d prior_share = Vec6d::Zero();  ///< diag of the projector onto the removed subspace
 };
 

@@ -16,7 +16,7 @@
 namespace superloc::localization {
 
 class ObservabilityScan {
-   public:
+ public:
     /// voxel [m] > 0.
     explicit ObservabilityScan(double voxel);
 
@@ -29,7 +29,7 @@ class ObservabilityScan {
     /// (or a crash while writing) never sees a half-written file. Throws naming the path.
     void write(const std::string& path) const;
 
-   private:
+ private:
     float voxel_;
     std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> index_;
     std::vector<Vec3f> points_;
