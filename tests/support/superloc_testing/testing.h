@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <string>
 
@@ -24,8 +25,18 @@ inline std::string appPath(const std::string& app) {
 }
 
 /// A fresh, empty folder for one test's outputs (under the build tree), removed first if present.
+/// CTest runs every test case in its own process (--gtest_filter=Suite.Case), in parallel, and a
+/// suite-level fixture would otherwise share (and wipe) one folder across processes: the filter
+/// is therefore part of the folder's name.
 inline std::string freshDir(const std::string& name) {
-    const auto dir = std::filesystem::path(SUPERLOC_BINARY_DIR) / "test-output" / name;
+    std::string tag = name;
+    std::string filter = GTEST_FLAG_GET(filter);
+    if (!filter.empty() && filter != "*") {
+        for (char& c : filter)
+            if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+        tag += "." + filter;
+    }
+    const auto dir = std::filesystem::path(SUPERLOC_BINARY_DIR) / "test-output" / tag;
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir.string();

@@ -13,7 +13,7 @@ Method methodFromString(const std::string& s);  ///< throws ConfigError listing 
 const char* methodName(Method m);
 
 struct LocalizationParams : public mrpt::config::CLoadableOptions {
-    std::string method = "icp";  ///< icp | ndt | superloc | passive | eigen_remap
+    std::string method = "superloc";  ///< superloc | icp | ndt | passive | eigen_remap
     bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 
