@@ -1,4 +1,5 @@
 // superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (DESIGN §8).
+#include <superloc/core/errors.h>
 #include <superloc/eval/bench_app.h>
 #include <superloc/eval/eval_app.h>
 #include <superloc/eval/process.h>
@@ -13,7 +14,7 @@ int main(int argc, char** argv) {
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));
         return app.run(std::cout);
     } catch (const std::exception& e) {
-        std::cerr << "superloc-bench: " << superloc::eval::oneLineError(e) << "\n";
+        std::cerr << "superloc-bench: " << superloc::oneLineError(e) << "\n";
         return 1;
     }
 }

@@ -1,4 +1,5 @@
 // superloc-eval: ATE, RPE, robustness (Rp, Rr), map outlier %, timing of one run (DESIGN §8-9).
+#include <superloc/core/errors.h>
 #include <superloc/eval/eval_app.h>
 
 #include <iostream>
@@ -9,7 +10,7 @@ int main(int argc, char** argv) {
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));
         return app.run(std::cout);
     } catch (const std::exception& e) {
-        std::cerr << "superloc-eval: " << superloc::eval::oneLineError(e) << "\n";
+        std::cerr << "superloc-eval: " << superloc::oneLineError(e) << "\n";
         return 1;
     }
 }

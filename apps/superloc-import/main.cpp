@@ -2,6 +2,7 @@
 // Converts a folder of scans into a rawlog (DESIGN §9); the work is io::importKitti /
 // io::importPcdFolder.
 #include <mrpt/system/progress.h>
+#include <superloc/core/errors.h>
 #include <superloc/io/importers.h>
 #include <unistd.h>
 
@@ -62,19 +63,6 @@ Args parse(int argc, char** argv) {
     return a;
 }
 
-/// The reason of an exception as one line (MRPT's messages carry a banner and a backtrace).
-std::string oneLine(const std::exception& e) {
-    std::istringstream ss(e.what());
-    std::string line;
-    while (std::getline(ss, line)) {
-        if (line.empty() || line.rfind("====", 0) == 0) continue;
-        if (line.rfind("Message:", 0) == 0) line = line.substr(8);
-        return line.substr(
-            line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '));
-    }
-    return "unknown error";
-}
-
 int run(int argc, char** argv) {
     const Args a = parse(argc, argv);
     if (a.help) {
@@ -103,7 +91,7 @@ int main(int argc, char** argv) {
     try {
         return run(argc, argv);
     } catch (const std::exception& e) {
-        std::cerr << "superloc-import: " << oneLine(e) << std::endl;
+        std::cerr << "superloc-import: " << superloc::oneLineError(e) << std::endl;
         return 1;
     }
 }

@@ -1,12 +1,11 @@
 // superloc-localize: map-based LiDAR-inertial localization of a rawlog (DESIGN §9).
-#include <mrpt/core/exceptions.h>
+#include <superloc/core/errors.h>
 #include <mrpt/system/os.h>
 #include <superloc/localization/localize_app.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <iostream>
-#include <sstream>
 
 int main(int argc, char** argv) {
     using superloc::localization::LocalizeApp;
@@ -26,16 +25,7 @@ int main(int argc, char** argv) {
         if (bar) std::fprintf(stderr, "\n");
         return rc;
     } catch (const std::exception& e) {
-        // One line: the first line of the message (exception_to_str prefixes a banner line to
-        // non-MRPT exceptions and appends call stacks to MRPT ones).
-        std::istringstream lines(mrpt::exception_to_str(e));
-        std::string line, msg;
-        while (std::getline(lines, line))
-            if (!line.empty() && line.rfind("====", 0) != 0) {
-                msg = line;
-                break;
-            }
-        std::cerr << "superloc-localize: error: " << msg << "\n";
+        std::cerr << "superloc-localize: error: " << superloc::oneLineError(e) << "\n";
         return 1;
     }
 }

@@ -1,5 +1,6 @@
 // superloc-map: prior map from a rawlog's scans and their poses. See superloc::map::MapApp.
 #include <mrpt/system/progress.h>
+#include <superloc/core/errors.h>
 #include <superloc/map/map_app.h>
 #include <unistd.h>
 
@@ -34,7 +35,7 @@ int main(int argc, char** argv) {
                       << "normals of " << s->points << " points in " << s->prepare_seconds << " s\n";
         return 0;
     } catch (const std::exception& e) {
-        std::cerr << "superloc-map: " << superloc::map::oneLineMessage(e) << "\n";
+        std::cerr << "superloc-map: " << superloc::oneLineError(e) << "\n";
         return 1;
     }
 }

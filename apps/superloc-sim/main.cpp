@@ -1,11 +1,10 @@
 // superloc-sim: synthetic LiDAR + IMU + odom_alt sequences in degenerate worlds (DESIGN §7, §9).
-#include <mrpt/core/exceptions.h>
+#include <superloc/core/errors.h>
 #include <mrpt/system/progress.h>
 #include <superloc/sim/sim_app.h>
 #include <unistd.h>
 
 #include <iostream>
-#include <sstream>
 
 int main(int argc, char** argv) {
     try {
@@ -27,15 +26,7 @@ int main(int argc, char** argv) {
         app.run();
         return 0;
     } catch (const std::exception& e) {
-        // One line: the first line of the message that is not an MRPT banner or call stack.
-        std::istringstream lines(mrpt::exception_to_str(e));
-        std::string line, msg;
-        while (std::getline(lines, line))
-            if (!line.empty() && line.rfind("====", 0) != 0) {
-                msg = line;
-                break;
-            }
-        std::cerr << "superloc-sim: " << (msg.empty() ? std::string(e.what()) : msg) << "\n";
+        std::cerr << "superloc-sim: " << superloc::oneLineError(e) << "\n";
         return 1;
     }
 }

@@ -14,17 +14,6 @@
 
 namespace superloc::eval {
 
-std::string oneLineError(const std::exception& e) {
-    std::istringstream text(mrpt::exception_to_str(e));
-    std::string line;
-    while (std::getline(text, line)) {
-        const size_t a = line.find_first_not_of(" \t\r");
-        if (a == std::string::npos || line.compare(a, 4, "====") == 0) continue;
-        return line.substr(a, line.find_last_not_of(" \t\r") + 1 - a);
-    }
-    return e.what();
-}
-
 std::string EvalApp::usage() {
     return "Usage: superloc-eval --est TUM --gt TUM [options]\n"
            "Evaluates an estimated trajectory (and map) against ground truth (DESIGN §8).\n"

@@ -32,22 +32,6 @@ double median(std::vector<float> v) {
 
 }  // namespace
 
-std::string oneLineMessage(const std::exception& e) {
-    // exception_to_str() frames messages with "==== (non-)MRPT exception ====" lines and MRPT
-    // adds a call trace: keep the first line with content, cut before any "====" frame.
-    const std::string text = mrpt::exception_to_str(e);
-    std::istringstream in(text);
-    std::string line;
-    while (std::getline(in, line)) {
-        const size_t frame = line.find("====");
-        if (frame != std::string::npos) line.erase(frame);
-        while (!line.empty() && std::string(" \t\r:").find(line.back()) != std::string::npos)
-            line.pop_back();
-        if (!line.empty()) return line;
-    }
-    return "unknown error";
-}
-
 std::string mapAppUsage() {
     return "Usage: superloc-map --rawlog FILE [--poses TUM] [--voxel M] --out MAP.pcd\n"
            "                    [--min-range M] [--max-range M] [--body-poses] [--no-normals]\n"

@@ -29,8 +29,5 @@ class EvalApp {
     bool help = false, dump_config = false;
 };
 
-/// The first meaningful line of an exception's text (MRPT adds headers and stack traces):
-/// what the apps print on failure.
-std::string oneLineError(const std::exception& e);
 
 }  // namespace superloc::eval

@@ -20,9 +20,6 @@ struct MapAppArgs {
     bool help = false;
 };
 
-/// First non-empty line of an exception's text (MRPT exceptions carry a multi-line trace), for
-/// the apps' one-line error.
-std::string oneLineMessage(const std::exception& e);
 
 /// Parses argv; throws std::runtime_error with a one-line message on a bad command line.
 MapAppArgs parseMapAppArgs(int argc, const char* const* argv);
