@@ -11,6 +11,11 @@ function(superloc_target_options target)
   if(SUPERLOC_SANITIZE)
     target_compile_options(${target} PRIVATE -fsanitize=address,undefined -fno-omit-frame-pointer)
     target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+    # Eigen stops trusting malloc's 16-byte alignment under ASan (__SANITIZE_ADDRESS__) and
+    # switches to its hand-made aligned allocator; PCL/MRPT/Ceres, built without ASan, allocate
+    # with plain malloc, so an Eigen vector created in PCL and freed in our code (NDT's voxel
+    # leaves) is freed the wrong way. Keep our code on the libraries' allocator.
+    target_compile_definitions(${target} PRIVATE EIGEN_MALLOC_ALREADY_ALIGNED=1)
   endif()
 endfunction()
 
