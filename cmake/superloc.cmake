@@ -1,6 +1,6 @@
 # Build helpers shared by every SuperLoc target.
 
-# C++17, warnings, optional -Werror and sanitizers. Never -march=native: MRPT, PCL and Ceres
+# C++17, warnings, optional -Werror and sanitizers. No -march flag tuned to this CPU: MRPT, PCL and Ceres
 # are built without it, and a differing Eigen alignment crashes at run time.
 function(superloc_target_options target)
   target_compile_features(${target} PUBLIC cxx_std_17)
