@@ -15,13 +15,6 @@ namespace superloc::eval {
 namespace fs = std::filesystem;
 namespace {
 
-std::vector<std::string> words(const std::string& s) {
-    std::vector<std::string> out;
-    std::istringstream ss(s);
-    for (std::string w; ss >> w;) out.push_back(w);
-    return out;
-}
-
 std::string status(const ProcessResult& p, double timeout_s) {
     if (!p.started) return "could not start";
     if (p.timed_out) return "timeout after " + std::to_string(static_cast<int>(timeout_s)) + " s";
@@ -87,7 +80,7 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
     suite = loadSuite(suite_path, data_dir);
     if (seq_given) {
         std::vector<SequenceSpec> keep;
-        for (const auto& name : words(only_seq)) {
+        for (const auto& name : splitWords(only_seq)) {
             bool found = false;
             for (const auto& s : suite.sequences)
                 if (s.name == name) keep.push_back(s), found = true;
@@ -96,7 +89,7 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         }
         suite.sequences = keep;
     }
-    if (meth_given) suite.methods = words(only_meth);
+    if (meth_given) suite.methods = splitWords(only_meth);
     command_line_ = "superloc-bench";
     for (const auto& a : args) command_line_ += " " + a;
 }

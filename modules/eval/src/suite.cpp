@@ -11,13 +11,6 @@ namespace superloc::eval {
 namespace fs = std::filesystem;
 namespace {
 
-std::vector<std::string> words(const std::string& s) {
-    std::vector<std::string> out;
-    std::istringstream ss(s);
-    for (std::string w; ss >> w;) out.push_back(w);
-    return out;
-}
-
 /// Rejects keys of `section` not in `known`.
 void checkKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
                const std::set<std::string>& known, const std::string& file) {
@@ -66,17 +59,17 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     if (!c.sectionExists("suite")) throw ConfigError(path + ": missing section [suite]");
     checkKeys(c, "suite", {"methods", "sequences", "localize_config", "localize_set", "timeout"},
               path);
-    s.methods = words(value(c, "suite", "methods"));
+    s.methods = splitWords(value(c, "suite", "methods"));
     if (s.methods.empty())
         throw ConfigError(path + ": [suite] methods is required (e.g. superloc icp)");
     const std::string lc = value(c, "suite", "localize_config");
     if (lc.empty()) throw ConfigError(path + ": [suite] localize_config is required");
     s.localize_config = existing(base / lc, path + ": [suite] localize_config");
-    s.localize_sets = words(value(c, "suite", "localize_set"));
+    s.localize_sets = splitWords(value(c, "suite", "localize_set"));
     s.timeout_s = number(c, "suite", "timeout", s.timeout_s, path);
     s.eval = loadParams<EvalParams>(c, "eval", path);
 
-    const auto names = words(value(c, "suite", "sequences"));
+    const auto names = splitWords(value(c, "suite", "sequences"));
     if (names.empty()) throw ConfigError(path + ": [suite] sequences is required");
     for (const auto& name : names) {
         const std::string sec = "seq." + name;
@@ -91,12 +84,12 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
         q.name = name;
         const std::string type = value(c, sec, "type");
         const std::string where = path + ": [" + sec + "]";
-        q.localize_sets = words(value(c, sec, "localize_set"));
+        q.localize_sets = splitWords(value(c, sec, "localize_set"));
         if (type == "sim") {
             q.kind = SequenceSpec::Kind::Sim;
             q.config = existing(base / value(c, sec, "config"), where + " config");
             q.seed = static_cast<int>(number(c, sec, "seed", 1, path));
-            q.sim_sets = words(value(c, sec, "sim_set"));
+            q.sim_sets = splitWords(value(c, sec, "sim_set"));
         } else if (type == "kitti" || type == "pcd") {
             q.kind = type == "kitti" ? SequenceSpec::Kind::Kitti : SequenceSpec::Kind::PcdDir;
             if (value(c, sec, "data").empty() || value(c, sec, "gt").empty())
@@ -183,6 +176,13 @@ std::string joinCommand(const std::vector<std::string>& argv) {
         s += a.find_first_of(" \t\"'") == std::string::npos ? a : "'" + a + "'";
     }
     return s;
+}
+
+std::vector<std::string> splitWords(const std::string& s) {
+    std::vector<std::string> out;
+    std::istringstream ss(s);
+    for (std::string w; ss >> w;) out.push_back(w);
+    return out;
 }
 
 }  // namespace superloc::eval

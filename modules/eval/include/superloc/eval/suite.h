@@ -73,4 +73,7 @@ std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpe
 /// argv joined for a log line, with arguments containing blanks quoted.
 std::string joinCommand(const std::vector<std::string>& argv);
 
+/// The blank-separated words of an INI value or a command-line list ("superloc icp").
+std::vector<std::string> splitWords(const std::string& s);
+
 }  // namespace superloc::eval
