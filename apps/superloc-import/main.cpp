@@ -2,6 +2,7 @@
 // Converts a folder of scans into a rawlog (DESIGN §9); the work is io::importKitti /
 // io::importPcdFolder.
 #include <mrpt/system/progress.h>
+#include <superloc/core/cli.h>
 #include <superloc/core/errors.h>
 #include <superloc/io/importers.h>
 #include <unistd.h>
@@ -35,10 +36,7 @@ Args parse(int argc, char** argv) {
     Args a;
     for (int i = 1; i < argc; ++i) {
         const std::string k = argv[i];
-        const auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw std::runtime_error(k + " needs a value (see --help)");
-            return argv[++i];
-        };
+        const auto value = [&] { return superloc::flagValue(argc, argv, i); };
         if (k == "--help" || k == "-h")
             a.help = true;
         else if (k == "--kitti")

@@ -68,7 +68,7 @@ TEST(EvalApp, BadCommandLinesAreOneLineErrors) {
     EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--est-map", "m.pcd"}),
                  std::invalid_argument);
     EXPECT_THROW(EvalApp().initialize({"--bogus"}), std::invalid_argument);
-    EXPECT_THROW(EvalApp().initialize({"--est"}), std::invalid_argument);
+    EXPECT_THROW(EvalApp().initialize({"--est"}), superloc::ConfigError);  // missing value
     EXPECT_THROW(EvalApp().initialize({"--est", "a", "--gt", "b", "--set", "eval.nokey=1"}),
                  ConfigError);
     EvalApp missing;

@@ -1,4 +1,5 @@
 #include <superloc/eval/bench_app.h>
+#include <superloc/core/cli.h>
 #include <superloc/eval/process.h>
 #include <superloc/eval/report_plots.h>
 #include <superloc/io/point_cloud_io.h>
@@ -50,10 +51,7 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
     bool seq_given = false, meth_given = false;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-            return args[++i];
-        };
+        const auto next = [&] { return flagValue(args, i); };
         if (a == "--help" || a == "-h")
             help = true;
         else if (a == "--out")

@@ -1,6 +1,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <superloc/core/config.h>
+#include <superloc/core/cli.h>
 #include <superloc/eval/eval_app.h>
 #include <superloc/eval/evaluation.h>
 #include <superloc/eval/report_plots.h>
@@ -38,10 +39,7 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
     bool align_flag = false;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        auto next = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw std::invalid_argument(a + ": missing value");
-            return args[++i];
-        };
+        const auto next = [&] { return flagValue(args, i); };
         if (a == "--help" || a == "-h")
             help = true;
         else if (a == "--est")

@@ -2,6 +2,7 @@
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/tum.h>
+#include <superloc/core/cli.h>
 #include <superloc/localization/localize_app.h>
 #include <superloc/localization/observability_scan.h>
 
@@ -82,10 +83,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     bool dump = false;
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
-        const auto value = [&]() -> std::string {
-            if (i + 1 >= args.size()) throw ConfigError(a + ": missing value (see --help)");
-            return args[++i];
-        };
+        const auto value = [&] { return flagValue(args, i); };
         if (a == "--help" || a == "-h") return Action::Help;
         if (a == "--rawlog") rawlog = value();
         else if (a == "--map") map = value();

@@ -3,6 +3,7 @@
 #include <mrpt/core/exceptions.h>
 #include <superloc/core/config.h>
 #include <superloc/io/point_cloud_io.h>
+#include <superloc/core/cli.h>
 #include <superloc/map/map_app.h>
 #include <superloc/map/prior_map.h>
 
@@ -59,10 +60,7 @@ MapAppArgs parseMapAppArgs(int argc, const char* const* argv) {
     MapAppArgs a;
     for (int i = 1; i < argc; ++i) {
         const std::string flag = argv[i];
-        const auto value = [&]() -> std::string {
-            if (i + 1 >= argc) throw std::runtime_error(flag + " needs a value (see --help)");
-            return argv[++i];
-        };
+        const auto value = [&] { return flagValue(argc, argv, i); };
         if (flag == "--help" || flag == "-h") a.help = true;
         else if (flag == "--rawlog") a.build.rawlog = value();
         else if (flag == "--poses") a.build.poses_tum = value();

@@ -2,6 +2,7 @@
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
+#include <superloc/core/cli.h>
 #include <superloc/sim/noise.h>
 #include <superloc/sim/raycaster.h>
 #include <superloc/sim/sim_app.h>
@@ -33,11 +34,7 @@ bool SimApp::initialize(int argc, const char* const* argv) {
     std::vector<std::string> sets;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        const auto value = [&]() -> std::string {
-            if (i + 1 >= argc)
-                throw std::runtime_error("option " + a + " needs a value (see --help)");
-            return argv[++i];
-        };
+        const auto value = [&] { return flagValue(argc, argv, i); };
         if (a == "--help" || a == "-h") return false;
         if (a == "--dump-config")
             dump_config_ = true;
