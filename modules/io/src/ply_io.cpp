@@ -35,46 +35,24 @@ bool scalarType(const std::string& t, Prop& p) {
     return false;
 }
 
+/// The value of type T stored in the first sizeof(T) bytes of b.
+template <class T>
+double as(const char* b) {
+    T v;
+    std::memcpy(&v, b, sizeof v);
+    return static_cast<double>(v);
+}
+
 double decode(const char* b, const Prop& p, bool swap) {
     char tmp[8];
     std::memcpy(tmp, b, p.size);
     if (swap) std::reverse(tmp, tmp + p.size);
     switch (p.kind) {
-        case 'f':
-            if (p.size == 4) {
-                float v;
-                std::memcpy(&v, tmp, 4);
-                return v;
-            }
-            {
-                double v;
-                std::memcpy(&v, tmp, 8);
-                return v;
-            }
+        case 'f': return p.size == 4 ? as<float>(tmp) : as<double>(tmp);
         case 'i':
-            if (p.size == 1) return static_cast<int8_t>(tmp[0]);
-            if (p.size == 2) {
-                int16_t v;
-                std::memcpy(&v, tmp, 2);
-                return v;
-            }
-            {
-                int32_t v;
-                std::memcpy(&v, tmp, 4);
-                return v;
-            }
+            return p.size == 1 ? as<int8_t>(tmp) : p.size == 2 ? as<int16_t>(tmp) : as<int32_t>(tmp);
         default:
-            if (p.size == 1) return static_cast<uint8_t>(tmp[0]);
-            if (p.size == 2) {
-                uint16_t v;
-                std::memcpy(&v, tmp, 2);
-                return v;
-            }
-            {
-                uint32_t v;
-                std::memcpy(&v, tmp, 4);
-                return v;
-            }
+            return p.size == 1 ? as<uint8_t>(tmp) : p.size == 2 ? as<uint16_t>(tmp) : as<uint32_t>(tmp);
     }
 }
 
