@@ -46,20 +46,34 @@ double inlierFraction(const PointCloud& scan, const map::PriorMap& map, const SE
     return inlierStats(corr, pts.size(), T, 0.05).ratio;
 }
 
+/// scan-pair-outdoor: the first scan as the prior map (0.1 m), the second scan, and the
+/// reference transform relative.txt, with localizer settings for two lone scans.
+struct ScanPair {
+    SE3d T_first_second;
+    std::shared_ptr<map::PriorMap> target;
+    PointCloud second;
+    LocalizerParams params;
+
+    ScanPair() {
+        const std::string dir = superloc::testing::sharedData("scan-pair-outdoor/");
+        T_first_second = readMatrix4(dir + "relative.txt");
+        map::MapParams mp;
+        mp.voxel_size = 0.1;
+        target = std::make_shared<map::PriorMap>(io::loadPointCloud(dir + "251370668.pcd"), mp,
+                                                 Vec3f::Zero());
+        second = io::loadPointCloud(dir + "251371071.pcd");
+        params.loc.use_imu = false;
+        params.features.deskew = false;
+    }
+};
+
 TEST(Registration, ScanPairOutdoorRecoversRelativePose) {
     SUPERLOC_REQUIRE_DATA("scan-pair-outdoor/relative.txt");
-    const std::string dir = superloc::testing::sharedData("scan-pair-outdoor/");
-    const SE3d T_first_second = readMatrix4(dir + "relative.txt");
-    map::MapParams mp;
-    mp.voxel_size = 0.1;
-    auto target = std::make_shared<map::PriorMap>(
-        io::loadPointCloud(dir + "251370668.pcd"), mp, Vec3f::Zero());
-    const PointCloud second = io::loadPointCloud(dir + "251371071.pcd");
-
-    LocalizerParams p;
-    p.loc.use_imu = false;
-    p.features.deskew = false;
-    Localizer loc(p, target);
+    const ScanPair pair;
+    const SE3d& T_first_second = pair.T_first_second;
+    const auto& target = pair.target;
+    const PointCloud& second = pair.second;
+    Localizer loc(pair.params, target);
     loc.setInitialPose(SE3d::Identity());  // 0.5 m and 0.7 deg away from relative.txt
     const FrameReport r = loc.process(asScan(second));
     const double dt = translationDistance(r.T_map_lidar, T_first_second);
@@ -84,19 +98,12 @@ TEST(Registration, ScanPairOutdoorRecoversRelativePose) {
 
 TEST(Registration, NdtRecoversRelativePoseToo) {
     SUPERLOC_REQUIRE_DATA("scan-pair-outdoor/relative.txt");
-    const std::string dir = superloc::testing::sharedData("scan-pair-outdoor/");
-    const SE3d T_first_second = readMatrix4(dir + "relative.txt");
-    map::MapParams mp;
-    mp.voxel_size = 0.1;
-    auto target = std::make_shared<map::PriorMap>(
-        io::loadPointCloud(dir + "251370668.pcd"), mp, Vec3f::Zero());
-    LocalizerParams p;
-    p.loc.method = "ndt";
-    p.loc.use_imu = false;
-    p.features.deskew = false;
-    Localizer loc(p, target);
+    ScanPair pair;
+    const SE3d& T_first_second = pair.T_first_second;
+    pair.params.loc.method = "ndt";
+    Localizer loc(pair.params, pair.target);
     loc.setInitialPose(SE3d::Identity());
-    const FrameReport r = loc.process(asScan(io::loadPointCloud(dir + "251371071.pcd")));
+    const FrameReport r = loc.process(asScan(pair.second));
     std::cout << "ndt: iterations " << r.iterations << " converged " << r.converged << " " << r.ms.solve << " ms\n";
     // NDT is the comparison baseline; a looser bound than the ICP step.
     EXPECT_LT(translationDistance(r.T_map_lidar, T_first_second), 0.1);
