@@ -154,6 +154,36 @@ TEST_P(SceneTest, CorridorIsDegenerateInXOnly) {
     EXPECT_GT(r.gamma.tail<5>().minCoeff(), 0.2);
 }
 
+// The translational information T = sum w n n^T / sum w (rotation-invariant, trace 1) agrees
+// with the labels on axis-aligned scenes and finds the weak direction of a tilted one, where
+// the axis-aligned labels split it.
+TEST(AlignmentRisk, TranslationEigenDiagnostics) {
+    const auto corridor = computeAlignmentRisk(castScene({{1, -1.5}, {1, 1.6}, {2, -1.2}, {2, 1.4}}),
+                                               RiskParams{});
+    EXPECT_NEAR(corridor.translation_eigenvalues.sum(), 1.0, 1e-9);
+    EXPECT_LT(corridor.translation_eigenvalues[0], 1e-9);
+    EXPECT_GT(corridor.translation_eigenvalues[1], 0.25);
+    EXPECT_NEAR(corridor.weakest_translation.x(), 1.0, 1e-9);
+    EXPECT_GT(corridor.weight_sum, 1000);
+
+    const auto room = computeAlignmentRisk(
+        castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}}), RiskParams{});
+    EXPECT_GT(room.translation_eigenvalues[0], 0.1);
+
+    // The same corridor pitched by 30 deg about y (points and normals rotated): the weakest
+    // direction is the rotated x axis (cos 30, 0, -sin 30) up to sign, still an exact zero.
+    auto tilted = castScene({{1, -1.5}, {1, 1.6}, {2, -1.2}, {2, 1.4}});
+    const Mat3d R = Eigen::AngleAxisd(30.0 * M_PI / 180.0, Vec3d::UnitY()).toRotationMatrix();
+    for (auto& c : tilted) {
+        c.p = R * c.p;
+        c.n = R * c.n;
+    }
+    const auto rt = computeAlignmentRisk(tilted, RiskParams{});
+    EXPECT_LT(rt.translation_eigenvalues[0], 1e-9);
+    EXPECT_NEAR(std::abs(rt.weakest_translation.dot(R * Vec3d::UnitX())), 1.0, 1e-9);
+    EXPECT_GT(rt.weakest_translation.x(), 0.0);  // sign convention: largest component positive
+}
+
 // A 12 x 9 x 3 m room, sensor off-centre: nothing degenerate, and a well-conditioned Hessian.
 TEST_P(SceneTest, BoxRoomHasNoDegenerateAxis) {
     const auto cs = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}});

@@ -12,6 +12,15 @@
 
 namespace superloc::localization {
 
+void FrameReport::setRisk(const risk::RiskReport& r) {
+    gamma = r.gamma;
+    degenerate = r.degenerate;
+    degenerate_axes = risk::degenerateAxes(r);
+    hessian_eigenvalues = r.weight_sum > 0 ? Vec6d(r.eigenvalues / r.weight_sum) : Vec6d::Zero();
+    translation_eigenvalues = r.translation_eigenvalues;
+    weakest_translation = r.weakest_translation;
+}
+
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) {
@@ -156,9 +165,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool first, FrameReport
             t0 = Clock::now();
             const auto risk = risk::computeAlignmentRisk(
                 riskInputs(T_before, T_imu_lidar_.translation()), params_.risk);
-            rep.gamma = risk.gamma;
-            rep.degenerate = risk.degenerate;
-            rep.degenerate_axes = risk::degenerateAxes(risk);
+            rep.setRisk(risk);
             prior = activePrior(risk);
             rep.ms.risk += msSince(t0);
         }
@@ -216,9 +223,7 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
     ta = Clock::now();
     const auto risk =
         risk::computeAlignmentRisk(riskInputs(cur_.T_map_imu(), T_imu_lidar.translation()), params_.risk);
-    rep.gamma = risk.gamma;
-    rep.degenerate = risk.degenerate;
-    rep.degenerate_axes = risk::degenerateAxes(risk);
+    rep.setRisk(risk);
     rep.ms.risk += msSince(ta);
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;

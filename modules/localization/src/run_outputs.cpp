@@ -17,7 +17,9 @@ std::string framesCsvHeader() {
            "corr_plane,corr_line,corr_point,too_far,rounds,iterations,converged,diverged,"
            "diverged_reason,used_imu,deskewed,"
            "prior_w_x,prior_w_y,prior_w_z,prior_w_roll,prior_w_pitch,prior_w_yaw,vx,vy,vz,"
-           "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve,ms_total_cpu";
+           "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve,ms_total_cpu,"
+           "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
+           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z";
 }
 
 std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
@@ -53,6 +55,9 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 3; ++k) add("%.4f", r.velocity[k]);
     for (double v : {r.ms.predict, r.ms.preprocess, r.ms.associate, r.ms.risk, r.ms.solve, r.ms.total_cpu})
         add("%.3f", v);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.hessian_eigenvalues[k]);
+    for (int k = 0; k < 3; ++k) add("%.5f", r.translation_eigenvalues[k]);
+    for (int k = 0; k < 3; ++k) add("%.5f", r.weakest_translation[k]);
     return s;
 }
 

@@ -92,6 +92,7 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         if (params.keep_jacobians) r.jacobians[i] = J;
         // Paper eq. (5)-(6): C = sum J_i J_i^T (weighted like the labels).
         if (params.hessian_eigen) r.hessian.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+        r.weight_sum += w;
     }
 
     // Paper eq. (7)-(8), per group (DESIGN §5), and the 0.2 rule of §III-B.
@@ -106,6 +107,16 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         r.eigenvectors = es.eigenvectors();
         r.condition_number = r.eigenvalues[0] > 0 ? r.eigenvalues[5] / r.eigenvalues[0]
                                                   : std::numeric_limits<double>::infinity();
+        if (r.weight_sum > 0) {
+            // The translation block of H is sum w n n^T: per unit weight it has trace 1.
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> et(
+                r.hessian.topLeftCorner<3, 3>() / r.weight_sum);
+            r.translation_eigenvalues = et.eigenvalues().cwiseMax(0.0);
+            Vec3d v = et.eigenvectors().col(0);
+            Eigen::Index k = 0;
+            v.cwiseAbs().maxCoeff(&k);
+            r.weakest_translation = v[k] < 0 ? Vec3d(-v) : v;
+        }
     }
     return r;
 }

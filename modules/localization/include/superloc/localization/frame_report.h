@@ -4,6 +4,7 @@
 
 #include <superloc/core/types.h>
 #include <superloc/imu/preintegration.h>
+#include <superloc/risk/alignment_risk.h>
 
 #include <array>
 #include <string>
@@ -34,6 +35,12 @@ struct FrameReport {
     Vec6d gamma = Vec6d::Zero();
     std::array<bool, 6> degenerate{};
     std::string degenerate_axes;       ///< flagged axes as letters ("x", "xyaw", "")
+    // The classic analysis of the same correspondences, for comparison (not used by superloc):
+    // eigenvalues of H = sum w J J^T divided by sum w (ascending), and of its translation block
+    // with the weakest translation direction in body axes (risk::RiskReport).
+    Vec6d hessian_eigenvalues = Vec6d::Zero();
+    Vec3d translation_eigenvalues = Vec3d::Zero();
+    Vec3d weakest_translation = Vec3d::Zero();
     bool prior_used = false;           ///< a relative-pose prior entered the solve
     Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
 
@@ -57,6 +64,9 @@ struct FrameReport {
     bool deskewed = false;
 
     StageTimes ms;
+
+    /// Copies the risk step's per-frame results (gamma, flags, eigen diagnostics).
+    void setRisk(const risk::RiskReport& r);
 };
 
 }  // namespace superloc::localization

@@ -81,6 +81,16 @@ struct RiskReport {
     Vec6d eigenvalues = Vec6d::Zero();
     Mat6d eigenvectors = Mat6d::Zero();
     double condition_number = 0;
+    /// Sum of the weights of the used correspondences (the scale of `hessian`).
+    double weight_sum = 0;
+    /// Translational information per unit weight, T = sum w_i n_i n_i^T / sum w_i (trace 1,
+    /// dimensionless, rotation-invariant unlike the labels): eigenvalues ascending, and the
+    /// unit eigenvector of the smallest one (the weakest translation direction, in the input
+    /// axes, sign chosen so that its largest component is positive). A uniform spread gives
+    /// 1/3 each; a direction no correspondence constrains gives 0. Zero when hessian_eigen is off
+    /// or nothing was used.
+    Vec3d translation_eigenvalues = Vec3d::Zero();
+    Vec3d weakest_translation = Vec3d::Zero();
 
     bool anyDegenerate() const;
 };
