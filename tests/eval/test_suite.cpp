@@ -168,8 +168,11 @@ TEST(Suite, CommittedSuitesLoad) {
                                       superloc::testing::sharedData());
     EXPECT_EQ(paper.methods,
               (std::vector<std::string>{"superloc", "icp", "passive", "eigen_remap", "ndt"}));
-    ASSERT_EQ(paper.sequences.size(), 7u);
-    EXPECT_EQ(paper.sequences[5].kind, SequenceSpec::Kind::PcdDir);
-    EXPECT_EQ(paper.sequences[6].localize_sets,
+    ASSERT_EQ(paper.sequences.size(), 8u);
+    EXPECT_EQ(paper.sequences[1].name, "corridor-long");
+    EXPECT_EQ(paper.sequences[1].sim_sets,
+              (std::vector<std::string>{"corridor.length=300", "corridor.recesses=0", "sim.duration=150"}));
+    EXPECT_EQ(paper.sequences[6].kind, SequenceSpec::Kind::PcdDir);
+    EXPECT_EQ(paper.sequences[7].localize_sets,
               (std::vector<std::string>{"features.deskew=false"}));
 }
