@@ -1,5 +1,5 @@
-// End to end with IMU: a 3 s simulated office sequence (superloc-sim, when built) localized with
-// IMU preintegration and deskew; every frame checked against the simulator's ground truth.
+// End to end with IMU on sequences made by superloc-sim (when built), checked against the
+// simulator's ground truth: a 3 s office (tracking) and a featureless corridor (active fusion).
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/tum.h>
@@ -12,40 +12,84 @@ using namespace superloc;
 using namespace superloc::localization;
 namespace fs = std::filesystem;
 
-TEST(LocalizeSim, OfficeWithImuTracksGroundTruth) {
-    const std::string sim = std::string(SUPERLOC_BINARY_DIR) + "/bin/superloc-sim";
-    if (!fs::exists(sim)) GTEST_SKIP() << sim << " not built";
-    const std::string dir = superloc::testing::freshDir("e2e_sim_office");
-    const std::string cmd = sim + " " + superloc::testing::sourcePath("ini/sim/office.ini") + " --out " + dir +
-                            "/seq --set sim.duration=3 > " + dir + "/sim.log 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+namespace {
+struct SimRun {
+    RunSummary summary;
+    double ate = 0, worst = 0, worst_deg = 0;  ///< against the simulator's GT
+};
 
+/// superloc-sim CONFIG --out DIR/seq with --set overrides; false when the tool is not built.
+bool simulate(const std::string& dir, const std::string& config, const std::vector<std::string>& sets) {
+    const std::string sim = std::string(SUPERLOC_BINARY_DIR) + "/bin/superloc-sim";
+    if (!fs::exists(sim)) return false;
+    std::string cmd = sim + " " + superloc::testing::sourcePath(config) + " --out " + dir + "/seq";
+    for (const auto& s : sets) cmd += " --set " + s;
+    cmd += " > " + dir + "/sim.log 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    return true;
+}
+
+/// ini/localize.ini on DIR/seq from the GT start with `method`, into DIR/<method>.
+SimRun localize(const std::string& dir, const std::string& method) {
+    SimRun out;
     LocalizeApp app;
-    ASSERT_EQ(app.initialize(std::vector<std::string>{
+    EXPECT_EQ(app.initialize(std::vector<std::string>{
                   superloc::testing::sourcePath("ini/localize.ini"), "--rawlog", dir + "/seq/sequence.rawlog",
-                  "--map", dir + "/seq/prior_map.pcd", "--initial-pose-tum", dir + "/seq/gt_tum.txt", "--out",
-                  dir + "/out", "--quiet"}),
+                  "--map", dir + "/seq/prior_map.pcd", "--initial-pose-tum", dir + "/seq/gt_tum.txt",
+                  "--method", method, "--out", dir + "/" + method, "--quiet"}),
               LocalizeApp::Action::Run);
-    ASSERT_EQ(app.run(), 0);
-    const RunSummary& s = app.summary();
+    EXPECT_EQ(app.run(), 0);
+    out.summary = app.summary();
+    const Trajectory gt = io::loadTum(dir + "/seq/gt_tum.txt");
+    const Trajectory est = io::loadTum(dir + "/" + method + "/trajectory.tum");
+    EXPECT_EQ(est.size(), out.summary.frames);
+    double se = 0;
+    for (const auto& e : est) {
+        const auto g = interpolateAt(gt, e.t, 1.0, 1e-3);
+        if (!g) {
+            ADD_FAILURE() << "no GT at " << e.t;
+            continue;
+        }
+        const double d = translationDistance(*g, e.pose);
+        se += d * d;
+        out.worst = std::max(out.worst, d);
+        out.worst_deg = std::max(out.worst_deg, rotationAngle(*g, e.pose) * 180 / M_PI);
+    }
+    out.ate = est.empty() ? 0 : std::sqrt(se / static_cast<double>(est.size()));
+    return out;
+}
+}  // namespace
+
+TEST(LocalizeSim, OfficeWithImuTracksGroundTruth) {
+    const std::string dir = superloc::testing::freshDir("e2e_sim_office");
+    if (!simulate(dir, "ini/sim/office.ini", {"sim.duration=3"})) GTEST_SKIP() << "superloc-sim not built";
+    const SimRun r = localize(dir, "superloc");
+    const RunSummary& s = r.summary;
     EXPECT_GE(s.frames, 25u);
     EXPECT_EQ(s.used_imu, s.frames - 1) << "every frame after the first predicted with the IMU";
     EXPECT_EQ(s.diverged, 0u);
+    EXPECT_LT(r.worst_deg, 1.0);
+    EXPECT_LT(r.ate, 0.03) << "ATE RMSE [m]";
+    EXPECT_LT(r.worst, 0.10) << "worst frame [m]";
+    std::cout << "sim office 3 s with IMU: ATE " << r.ate << " m, worst " << r.worst << " m\n";
+}
 
-    const Trajectory gt = io::loadTum(dir + "/seq/gt_tum.txt");
-    const Trajectory est = io::loadTum(dir + "/out/trajectory.tum");
-    ASSERT_EQ(est.size(), s.frames);
-    double se = 0, worst = 0;
-    for (const auto& e : est) {
-        const auto g = interpolateAt(gt, e.t, 1.0, 1e-3);
-        ASSERT_TRUE(g.has_value()) << e.t;
-        const double d = translationDistance(*g, e.pose);
-        se += d * d;
-        worst = std::max(worst, d);
-        EXPECT_LT(rotationAngle(*g, e.pose) * 180 / M_PI, 1.0) << e.t;
-    }
-    const double ate = std::sqrt(se / static_cast<double>(est.size()));
-    EXPECT_LT(ate, 0.03) << "ATE RMSE [m]";
-    EXPECT_LT(worst, 0.10) << "worst frame [m]";
-    std::cout << "sim office 3 s with IMU: ATE " << ate << " m, worst " << worst << " m\n";
+// The paper's claim end to end, with the IMU on: 30 s down a 150 m corridor with no door
+// recesses (VLP-16). The scan says nothing along x for ~25 s; icp's x is dragged by the scan's
+// spurious x information (map voxels, plane edges) and drifts by metres, superloc flags x and
+// takes it from the drifting odom_alt (2 %/m). Measured: icp ATE 1.10 m, superloc 0.068 m.
+TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
+    const std::string dir = superloc::testing::freshDir("e2e_sim_corridor");
+    if (!simulate(dir, "ini/sim/corridor.ini",
+                  {"corridor.length=150", "corridor.recesses=0", "sim.duration=30",
+                   "lidar.preset=../sensors/vlp16.ini"}))
+        GTEST_SKIP() << "superloc-sim not built";
+    const SimRun icp = localize(dir, "icp");
+    const SimRun sl = localize(dir, "superloc");
+    EXPECT_GE(sl.summary.frames, 290u);
+    EXPECT_EQ(sl.summary.diverged, 0u);
+    EXPECT_LT(sl.ate, 0.15) << "superloc ATE RMSE [m]";
+    EXPECT_LT(sl.worst, 0.4) << "superloc worst frame [m]";
+    EXPECT_GT(icp.ate, 3 * sl.ate) << "icp ATE RMSE [m]: the corridor should degrade it";
+    std::cout << "sim featureless corridor 30 s: ATE icp " << icp.ate << " m, superloc " << sl.ate << " m\n";
 }
