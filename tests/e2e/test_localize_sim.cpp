@@ -94,6 +94,14 @@ TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
     EXPECT_LT(sl.ate, 0.15) << "superloc ATE RMSE [m]";
     EXPECT_LT(sl.worst, 0.4) << "superloc worst frame [m]";
     EXPECT_GT(icp.ate, 3 * sl.ate) << "icp ATE RMSE [m]: the corridor should degrade it";
+    // The run summary counts what the risk step did: superloc fused odom_alt on every flagged
+    // frame but the first, icp on none (its flags are reported all the same).
+    EXPECT_GE(sl.summary.flagged_axis[0], 250u);
+    EXPECT_EQ(sl.summary.with_prior, sl.summary.frames - 1);
+    EXPECT_LE(sl.summary.flagged_without_prior, 1u);
+    EXPECT_EQ(icp.summary.with_prior, 0u);
+    EXPECT_EQ(icp.summary.flagged_without_prior, icp.summary.flagged);
+    EXPECT_GE(icp.summary.flagged, 250u);
 
     // frames.csv inside the corridor (10 m < x < 140 m): x flagged, superloc's prior on x only,
     // and the classic analysis agrees: the weakest translation direction is the corridor axis.

@@ -207,6 +207,11 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 summary_.diverged += r.diverged;
                 summary_.converged += r.converged;
                 summary_.used_imu += r.used_imu;
+                summary_.with_prior += r.prior_used;
+                const bool flagged = !r.degenerate_axes.empty();
+                summary_.flagged += flagged;
+                summary_.flagged_without_prior += flagged && !r.prior_used;
+                for (int k = 0; k < 6; ++k) summary_.flagged_axis[k] += r.degenerate[k];
                 // Log divergence when it starts and ends, not on every frame of a long episode.
                 if (r.diverged != in_divergence)
                     MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
@@ -243,6 +248,12 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     obs_scan.write(obs_path);
     MRPT_LOG_INFO_FMT("%zu frames (%zu diverged), median %.2f ms, p95 %.2f ms per frame -> %s", summary_.frames,
                       summary_.diverged, summary_.ms_median, summary_.ms_p95, run_.out.c_str());
+    const auto& fa = summary_.flagged_axis;
+    MRPT_LOG_INFO_FMT(
+        "alignment risk: %zu frames flag a degenerate axis (x %zu, y %zu, z %zu, roll %zu, pitch %zu, "
+        "yaw %zu); odom_alt prior in %zu frames; %zu flagged frames had no prior",
+        summary_.flagged, fa[0], fa[1], fa[2], fa[3], fa[4], fa[5], summary_.with_prior,
+        summary_.flagged_without_prior);
     return 0;
 }
 

@@ -104,6 +104,12 @@ void RunOutputs::finish(const RunSummary& s) {
       << "  \"frames_diverged\": " << s.diverged << ",\n"
       << "  \"frames_converged\": " << s.converged << ",\n"
       << "  \"frames_with_imu\": " << s.used_imu << ",\n"
+      << "  \"frames_with_prior\": " << s.with_prior << ",\n"
+      << "  \"frames_flagged\": " << s.flagged << ",\n"
+      << "  \"frames_flagged_without_prior\": " << s.flagged_without_prior << ",\n"
+      << "  \"frames_flagged_per_axis\": {\"x\": " << s.flagged_axis[0] << ", \"y\": " << s.flagged_axis[1]
+      << ", \"z\": " << s.flagged_axis[2] << ", \"roll\": " << s.flagged_axis[3]
+      << ", \"pitch\": " << s.flagged_axis[4] << ", \"yaw\": " << s.flagged_axis[5] << "},\n"
       << "  \"ms_per_frame_median\": " << s.ms_median << ",\n"
       << "  \"ms_per_frame_p95\": " << s.ms_p95 << ",\n"
       << "  \"ms_per_frame_mean\": " << s.ms_mean << ",\n"

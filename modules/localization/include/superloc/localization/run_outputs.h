@@ -11,6 +11,7 @@
 
 #include <fstream>
 #include <memory>
+#include <array>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -30,6 +31,10 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T);
 struct RunSummary {
     std::string method;
     size_t frames = 0, diverged = 0, converged = 0, used_imu = 0;
+    size_t with_prior = 0;               ///< frames whose solve had an odom_alt prior
+    size_t flagged = 0;                  ///< frames with at least one degenerate axis
+    size_t flagged_without_prior = 0;    ///< of those, frames solved without a prior
+    std::array<size_t, 6> flagged_axis{};  ///< frames flagging x, y, z, roll, pitch, yaw
     double ms_median = 0, ms_p95 = 0, ms_mean = 0, fps = 0;  ///< wall time per frame
     double cpu_ms_median = 0;  ///< thread CPU time per frame
     StageTimes stage_median;  ///< median per stage
