@@ -208,6 +208,12 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 summary_.converged += r.converged;
                 summary_.used_imu += r.used_imu;
                 summary_.with_prior += r.prior_used;
+                summary_.recovered += r.recovered;
+                if (r.recovered)
+                    MRPT_LOG_INFO_FMT("frame %zu (t=%.3f): recovered from a yaw hypothesis, %.1f deg from the "
+                                      "constant-velocity prediction, inlier ratio %.2f",
+                                      r.index, r.t, rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / M_PI * 180,
+                                      r.inlier_ratio);
                 const bool flagged = !r.degenerate_axes.empty();
                 summary_.flagged += flagged;
                 summary_.flagged_without_prior += flagged && !r.prior_used;

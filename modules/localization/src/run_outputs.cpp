@@ -19,7 +19,7 @@ std::string framesCsvHeader() {
            "prior_w_x,prior_w_y,prior_w_z,prior_w_roll,prior_w_pitch,prior_w_yaw,vx,vy,vz,"
            "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve,ms_total_cpu,"
            "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
-           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z";
+           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered";
 }
 
 std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
@@ -58,6 +58,7 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 6; ++k) add("%.6g", r.hessian_eigenvalues[k]);
     for (int k = 0; k < 3; ++k) add("%.5f", r.translation_eigenvalues[k]);
     for (int k = 0; k < 3; ++k) add("%.5f", r.weakest_translation[k]);
+    add("%d", r.recovered ? 1 : 0);
     return s;
 }
 
@@ -105,6 +106,7 @@ void RunOutputs::finish(const RunSummary& s) {
       << "  \"frames_converged\": " << s.converged << ",\n"
       << "  \"frames_with_imu\": " << s.used_imu << ",\n"
       << "  \"frames_with_prior\": " << s.with_prior << ",\n"
+      << "  \"frames_recovered\": " << s.recovered << ",\n"
       << "  \"frames_flagged\": " << s.flagged << ",\n"
       << "  \"frames_flagged_without_prior\": " << s.flagged_without_prior << ",\n"
       << "  \"frames_flagged_per_axis\": {\"x\": " << s.flagged_axis[0] << ", \"y\": " << s.flagged_axis[1]

@@ -60,6 +60,7 @@ struct FrameReport {
     bool converged = false;       ///< last round's update below the thresholds
     bool diverged = false;        ///< divergence detected (see reason)
     std::string diverged_reason;  ///< "inliers", "jump", "no_correspondences", "solver", ...
+    bool recovered = false;       ///< diverged at the prediction, re-solved from a yaw hypothesis
     bool used_imu = false;        ///< prediction and factor from IMU preintegration
     bool deskewed = false;
 

@@ -82,9 +82,15 @@ class Localizer : public mrpt::system::COutputLogger {
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
-    void solveIcp(const imu::Preintegration* pre, bool first, FrameReport& rep);
+    /// Steps 3-5 from the current state's pose; `wide`: first-frame search radius and rounds.
+    /// `rounds` > 0 overrides the number of association rounds.
+    void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, int rounds = 0);
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
+    /// Recovery of a diverged constant-velocity frame (LocalizationParams::recovery_*): re-solves
+    /// from yaw hypotheses; returns true and replaces rep and the state when one passes.
+    bool recoverFromYawHypotheses(const Scan& scan, const Prediction& pred, const FrameReport& base,
+                                  FrameReport& rep);
     /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
     /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
     /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
@@ -105,6 +111,7 @@ class Localizer : public mrpt::system::COutputLogger {
 
     LocalizerParams params_;
     Method method_;
+    double last_tracked_inlier_ratio_ = 0;  ///< inlier ratio of the last frame not diverged
     std::shared_ptr<const map::PriorMap> map_;
     std::unique_ptr<NdtRegistration> ndt_;
     AssociationParams assoc_;
