@@ -407,6 +407,10 @@ bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pre
     const auto& lp = params_.loc;
     const auto t0 = Clock::now();
     const fusion::FrameState start_state = cur_;
+    // What the attempts overwrite, to put back when none of them wins.
+    const auto saved_corr = corr_;
+    const auto saved_stats = last_stats_;
+    const SE3d saved_T_map_lidar = last_T_map_lidar_;
     std::vector<SE3d> starts;
     for (const SE3d& c : {pred.T_map_imu, prev_.T_map_imu()}) {
         for (double a = 0; a <= lp.recovery_max_yaw_deg + 1e-9; a += lp.recovery_yaw_step_deg) {
@@ -432,7 +436,8 @@ bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pre
         return r;
     };
     // Screen every hypothesis with a few rounds, then run the full wide search from the
-    // kRefine best (a right start may still trail after the screening rounds).
+    // kRefine best (the right start may still trail after the screening rounds: campus-ouster
+    // frame 14 is at 0.26 after 8 rounds, 0.88 after the full search).
     constexpr size_t kRefine = 4;
     std::vector<std::pair<double, size_t>> screened;
     for (size_t i = 0; i < starts.size(); ++i)
@@ -452,6 +457,10 @@ bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pre
         r.recovered = true;
         r.ms = rep.ms;
         rep = r;
+    } else {
+        corr_ = saved_corr;
+        last_stats_ = saved_stats;
+        last_T_map_lidar_ = saved_T_map_lidar;
     }
     rep.ms.solve += msSince(t0);
     return ok;
