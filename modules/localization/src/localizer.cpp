@@ -363,9 +363,13 @@ FrameReport Localizer::process(const Scan& scan) {
     preprocess(scan, pred, rep);
     rep.ms.preprocess = msSince(t0);
 
-    // Steps 3-5: association, risk, solve.
-    const FrameReport before_solve = rep;
-    const fusion::FrameState state_before_solve = cur_;
+    // Steps 3-5: association, risk, solve. A constant-velocity frame keeps what it started from,
+    // in case it has to be re-solved from yaw hypotheses (step 7, localizer_recovery.cpp).
+    const auto& lp = params_.loc;
+    const bool may_recover =
+        !first && !pred.used_imu && method_ != Method::Ndt && lp.recovery_max_yaw_deg > 0;
+    std::optional<std::pair<FrameReport, fusion::FrameState>> before_solve;
+    if (may_recover) before_solve.emplace(rep, cur_);
     if (method_ == Method::Ndt) {
         solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
     } else {
@@ -374,13 +378,10 @@ FrameReport Localizer::process(const Scan& scan) {
 
     // Step 6: report and state update.
     finish(scan, pred, first, rep);
-    const auto& lp = params_.loc;
-    if (!first && !pred.used_imu && method_ != Method::Ndt && lp.recovery_max_yaw_deg > 0 &&
+    if (before_solve &&
         (rep.diverged || rep.inlier_ratio < lp.recovery_inlier_drop * last_tracked_inlier_ratio_)) {
-        const fusion::FrameState solved = cur_;
-        cur_ = state_before_solve;
         const auto t_rec = Clock::now();
-        if (!recoverFromYawHypotheses(scan, pred, before_solve, rep)) cur_ = solved;
+        recoverFromYawHypotheses(scan, pred, before_solve->first, before_solve->second, rep);
         rep.ms.solve += msSince(t_rec);
     }
     if (!rep.diverged) last_tracked_inlier_ratio_ = rep.inlier_ratio;

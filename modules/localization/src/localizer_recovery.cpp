@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -14,18 +15,26 @@ constexpr double kDeg = M_PI / 180.0;
 }  // namespace
 
 bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pred, const FrameReport& base,
-                                         FrameReport& rep) {
+                                         const fusion::FrameState& start, FrameReport& rep) {
     // Without IMU a fast turn between two sweeps leaves the constant-velocity prediction tens of
     // degrees off, beyond what scan-to-map ICP converges from. Try yaw offsets (about the map's
     // vertical) around the prediction and around the previous pose (the motion may have stopped
     // or reversed): a short wide search from each, then the most inliers is refined. It replaces
     // the frame's solution only when it has more inliers and passes the divergence checks.
     const auto& lp = params_.loc;
-    const fusion::FrameState start_state = cur_;
-    // What the attempts overwrite, to put back when none of them wins.
-    const auto saved_corr = corr_;
-    const auto saved_stats = last_stats_;
-    const SE3d saved_T_map_lidar = last_T_map_lidar_;
+    // Everything a solve leaves behind (state, report, the buffers the app reads afterwards).
+    struct Outcome {
+        FrameReport rep;
+        fusion::FrameState state;
+        std::vector<fusion::ScanCorrespondence> corr;
+        AssociationStats stats;
+        SE3d T_map_lidar;
+    };
+    const auto capture = [this](const FrameReport& r) {
+        return Outcome{r, cur_, corr_, last_stats_, last_T_map_lidar_};
+    };
+    const Outcome solved = capture(rep);
+
     std::vector<SE3d> starts;
     for (const SE3d& c : {pred.T_map_imu, prev_.T_map_imu()}) {
         for (double a = 0; a <= lp.recovery_max_yaw_deg + 1e-9; a += lp.recovery_yaw_step_deg) {
@@ -37,16 +46,16 @@ bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pre
             }
         }
     }
-    // One hypothesis: solve from `start` (rounds = 0: the full wide search) and check it.
+    // One hypothesis: solve from `T_start` (rounds = 0: the full wide search) and check it.
     // finish() runs as on a first frame: no jump check, a recovered pose is far from the
     // prediction by construction; the inlier check decides.
-    const auto attempt = [&](const SE3d& start, int rounds) {
-        cur_ = start_state;
-        cur_.setPose(start);
+    const auto attempt = [&](const SE3d& T_start, int rounds) {
+        cur_ = start;
+        cur_.setPose(T_start);
         FrameReport r = base;
         solveIcp(nullptr, true, r, rounds);
         Prediction p = pred;
-        p.T_map_imu = start;
+        p.T_map_imu = T_start;
         finish(scan, p, true, r);
         return r;
     };
@@ -60,23 +69,20 @@ bool Localizer::recoverFromYawHypotheses(const Scan& scan, const Prediction& pre
     const size_t n_refine = std::min(kRefine, screened.size());
     std::partial_sort(screened.begin(), screened.begin() + static_cast<std::ptrdiff_t>(n_refine), screened.end(),
                       [](const auto& a, const auto& b) { return a.first > b.first; });
-    size_t best = screened.front().second;
-    double best_ratio = -1;
+    std::optional<Outcome> best;
     for (size_t k = 0; k < n_refine; ++k) {
         const FrameReport r = attempt(starts[screened[k].second], 0);
-        if (!r.diverged && r.inlier_ratio > best_ratio) best_ratio = r.inlier_ratio, best = screened[k].second;
+        if (!r.diverged && (!best || r.inlier_ratio > best->rep.inlier_ratio)) best = capture(r);
     }
-    FrameReport r = attempt(starts[best], 0);  // again, so that every buffer belongs to the winner
-    const bool ok = !r.diverged && (rep.diverged || r.inlier_ratio > rep.inlier_ratio);
-    if (ok) {
-        r.recovered = true;
-        r.ms = rep.ms;
-        rep = r;
-    } else {
-        corr_ = saved_corr;
-        last_stats_ = saved_stats;
-        last_T_map_lidar_ = saved_T_map_lidar;
-    }
+    const bool ok = best && (solved.rep.diverged || best->rep.inlier_ratio > solved.rep.inlier_ratio);
+    const Outcome& keep = ok ? *best : solved;
+    cur_ = keep.state;
+    corr_ = keep.corr;
+    last_stats_ = keep.stats;
+    last_T_map_lidar_ = keep.T_map_lidar;
+    rep = keep.rep;
+    rep.ms = solved.rep.ms;
+    rep.recovered = ok;
     return ok;
 }
 

@@ -88,9 +88,11 @@ class Localizer : public mrpt::system::COutputLogger {
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
     /// Recovery of a diverged constant-velocity frame (LocalizationParams::recovery_*): re-solves
-    /// from yaw hypotheses; returns true and replaces rep and the state when one passes.
+    /// from yaw hypotheses, starting each from `base` / `start` (the frame before its solve);
+    /// when one passes, replaces rep and the state with it and returns true, else leaves both
+    /// as the frame's own solve left them.
     bool recoverFromYawHypotheses(const Scan& scan, const Prediction& pred, const FrameReport& base,
-                                  FrameReport& rep);
+                                  const fusion::FrameState& start, FrameReport& rep);
     /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
     /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
     /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
