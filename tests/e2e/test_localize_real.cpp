@@ -8,12 +8,13 @@
 #include <superloc/io/importers.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
-#include <superloc/localization/localize_app.h>
 #include <superloc/map/map_builder.h>
 #include <superloc_testing/testing.h>
 
 #include <algorithm>
 #include <filesystem>
+
+#include "e2e_run.h"
 
 using namespace superloc;
 using namespace superloc::localization;
@@ -22,15 +23,11 @@ namespace fs = std::filesystem;
 namespace {
 constexpr size_t kFirst = 11, kCount = 8;
 
-struct Result {
-    RunSummary summary;
-    double worst_m = 0, worst_deg = 0;
-};
-
 class CampusTurns : public ::testing::Test {
  protected:
     static void SetUpTestSuite() {
         dir_ = superloc::testing::freshDir("localize_real_campus");
+        if (!fs::exists(superloc::testing::sharedData("campus-ouster/gt_tum.txt"))) return;  // tests skip
         const fs::path scans = superloc::testing::sharedData("campus-ouster/scans");
         std::vector<fs::path> files;
         for (const auto& e : fs::directory_iterator(scans)) files.push_back(e.path());
@@ -53,31 +50,14 @@ class CampusTurns : public ::testing::Test {
         io::savePointCloud(dir_ + "/map.pcd", m);
     }
 
-    static Result localize(const std::string& name, const std::vector<std::string>& sets) {
-        std::vector<std::string> args = {superloc::testing::sourcePath("ini/localize.ini"),
-                                         "--rawlog", dir_ + "/campus.rawlog", "--map", dir_ + "/map.pcd",
+    static superloc::testing::LocalizeRun localize(const std::string& name, const std::vector<std::string>& sets) {
+        std::vector<std::string> args = {"--rawlog", dir_ + "/campus.rawlog", "--map", dir_ + "/map.pcd",
                                          "--initial-pose-tum", dir_ + "/gt.tum", "--method", "icp",
-                                         "--out", dir_ + "/" + name, "--quiet",
                                          // already motion-compensated scans (bundle-adjusted)
                                          "--set", "features.deskew=false"};
         for (const auto& s : sets) args.insert(args.end(), {"--set", s});
-        LocalizeApp app;
-        Result r;
-        EXPECT_EQ(app.initialize(args), LocalizeApp::Action::Run);
-        EXPECT_EQ(app.run(), 0);
-        r.summary = app.summary();
-        const Trajectory gt = io::loadTum(dir_ + "/gt.tum");
-        const Trajectory est = io::loadTum(dir_ + "/" + name + "/trajectory.tum");
-        EXPECT_EQ(est.size(), kCount);
-        for (const auto& e : est) {
-            const auto g = interpolateAt(gt, e.t, 1.5, 1e-3);
-            if (!g) {
-                ADD_FAILURE() << "no GT at " << e.t;
-                continue;
-            }
-            r.worst_m = std::max(r.worst_m, translationDistance(*g, e.pose));
-            r.worst_deg = std::max(r.worst_deg, rotationAngle(*g, e.pose) * 180 / M_PI);
-        }
+        auto r = superloc::testing::localizeAndCompare(args, dir_ + "/" + name, dir_ + "/gt.tum", 1.5);
+        EXPECT_EQ(r.frames.size(), kCount);
         return r;
     }
 
@@ -88,7 +68,7 @@ std::string CampusTurns::dir_;
 
 TEST_F(CampusTurns, YawHypothesesKeepEveryFrameOnGroundTruth) {
     SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
-    const Result r = localize("recovery", {});
+    const auto r = localize("recovery", {});
     EXPECT_EQ(r.summary.diverged, 0u);
     EXPECT_GE(r.summary.recovered, 3u);
     EXPECT_LT(r.worst_m, 0.05);
@@ -99,7 +79,7 @@ TEST_F(CampusTurns, YawHypothesesKeepEveryFrameOnGroundTruth) {
 
 TEST_F(CampusTurns, WithoutRecoveryTheTurnLosesTrack) {
     SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
-    const Result r = localize("no_recovery", {"localization.recovery_max_yaw_deg=0"});
+    const auto r = localize("no_recovery", {"localization.recovery_max_yaw_deg=0"});
     EXPECT_EQ(r.summary.recovered, 0u);
     EXPECT_GT(r.summary.diverged, 0u);
     EXPECT_GT(r.worst_m, 0.3);
