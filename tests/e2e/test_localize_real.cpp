@@ -1,88 +1,107 @@
-// Localization on real data without IMU: campus-ouster scans 11..18 (a walk turning by 17-52 deg
-// between scans taken 1 s apart) on a map built from the same scans at their ground-truth poses.
-// The constant-velocity prediction is tens of degrees off in the turns; the yaw-hypothesis
-// recovery (LocalizationParams::recovery_*) keeps every frame on the ground truth, and the same
-// run without it loses track.
+// Localization on real data without IMU, by the honest protocol (real_split.h): the prior map is
+// built from the even scans, the odd scans are localized in it with the default INI plus the
+// sensor's facts (both data sets come motion-compensated: deskew off) and the voxel-map
+// association (doc/map.md; not the default yet: see there). Measured (commit of this test):
+//  - kitti00-mini GT start: voxel ATE 0.17-0.19 m; nearest (the default) 0.71 m, as in the
+//    basin issue. Perturbed start: voxel 0.22 m. The issue's goal (<= 0.10 m) is not met yet.
+//  - campus-ouster: voxel ATE 0.020 m (worst 0.039 m), every frame tracked; nearest 11 m.
+//  - kitti00-mini: 8 odd scans 0.2 s apart (5 Hz, ~1.7 m between them), from the GT pose at the
+//    first odd scan and from a start 1.0 m, 1.0 m, 0.2 m and 10 deg of yaw away.
+//  - campus-ouster: 26 odd scans 2 s apart, a walk turning by up to ~90 deg between them (the
+//    yaw-hypothesis recovery keeps it on track; without it the turns lose it).
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
-#include <superloc/io/importers.h>
-#include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
-#include <superloc/map/map_builder.h>
-#include <superloc_testing/testing.h>
 
-#include <algorithm>
-#include <filesystem>
+#include <cstdio>
 
 #include "e2e_run.h"
+#include "real_split.h"
 
 using namespace superloc;
 using namespace superloc::localization;
-namespace fs = std::filesystem;
 
 namespace {
-constexpr size_t kFirst = 11, kCount = 8;
-
-class CampusTurns : public ::testing::Test {
- protected:
-    static void SetUpTestSuite() {
-        dir_ = superloc::testing::freshDir("localize_real_campus");
-        if (!fs::exists(superloc::testing::sharedData("campus-ouster/gt_tum.txt"))) return;  // tests skip
-        const fs::path scans = superloc::testing::sharedData("campus-ouster/scans");
-        std::vector<fs::path> files;
-        for (const auto& e : fs::directory_iterator(scans)) files.push_back(e.path());
-        std::sort(files.begin(), files.end());
-        const Trajectory all = io::loadTum(superloc::testing::sharedData("campus-ouster/gt_tum.txt"));
-        Trajectory gt;
-        fs::create_directories(dir_ + "/scans");
-        for (size_t i = kFirst; i < kFirst + kCount; ++i) {
-            fs::create_symlink(files.at(i), dir_ + "/scans/" + files[i].filename().string());
-            gt.push_back(all.at(i));
-        }
-        io::saveTum(dir_ + "/gt.tum", gt);
-        io::importPcdFolder(dir_ + "/scans", dir_ + "/gt.tum", "", dir_ + "/campus.rawlog");
-        map::MapBuildOptions o;
-        o.rawlog = dir_ + "/campus.rawlog";
-        o.poses_tum = dir_ + "/gt.tum";
-        o.voxel = 0.1;
-        map::MapBuilder b(o);
-        PointCloud m = b.build();
-        io::savePointCloud(dir_ + "/map.pcd", m);
-    }
-
-    static superloc::testing::LocalizeRun localize(const std::string& name, const std::vector<std::string>& sets) {
-        std::vector<std::string> args = {"--rawlog", dir_ + "/campus.rawlog", "--map", dir_ + "/map.pcd",
-                                         "--initial-pose-tum", dir_ + "/gt.tum", "--method", "icp",
-                                         // already motion-compensated scans (bundle-adjusted)
-                                         "--set", "features.deskew=false"};
-        for (const auto& s : sets) args.insert(args.end(), {"--set", s});
-        auto r = superloc::testing::localizeAndCompare(args, dir_ + "/" + name, dir_ + "/gt.tum", 1.5);
-        EXPECT_EQ(r.frames.size(), kCount);
-        return r;
-    }
-
-    static std::string dir_;
-};
-std::string CampusTurns::dir_;
-}  // namespace
-
-TEST_F(CampusTurns, YawHypothesesKeepEveryFrameOnGroundTruth) {
-    SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
-    const auto r = localize("recovery", {});
-    EXPECT_EQ(r.summary.diverged, 0u);
-    EXPECT_GE(r.summary.recovered, 3u);
-    EXPECT_LT(r.worst_m, 0.05);
-    EXPECT_LT(r.worst_deg, 1.0);
-    std::cout << "campus turns with recovery: " << r.summary.recovered << " frames recovered, worst "
-              << r.worst_m << " m, " << r.worst_deg << " deg\n";
+std::string poseString(const SE3d& T) {
+    const Eigen::Quaterniond q(T.linear());
+    char b[256];
+    std::snprintf(b, sizeof(b), "%.9f %.9f %.9f %.12f %.12f %.12f %.12f", T.translation().x(), T.translation().y(),
+                  T.translation().z(), q.x(), q.y(), q.z(), q.w());
+    return b;
 }
 
-TEST_F(CampusTurns, WithoutRecoveryTheTurnLosesTrack) {
+class RealSplitRuns : public ::testing::Test {
+ protected:
+    static void SetUpTestSuite() {
+        kitti_ = superloc::testing::prepareRealSplit("real_split_kitti", "kitti00-mini", "even", 0.2);
+        campus_ = superloc::testing::prepareRealSplit("real_split_campus", "campus-ouster", "even", 0.1);
+    }
+    static superloc::testing::LocalizeRun localize(const superloc::testing::RealSplit& s, const std::string& name,
+                                                    std::vector<std::string> extra) {
+        std::vector<std::string> args = {"--rawlog", s.rawlog, "--map", s.map, "--set", "rawlog.scans=odd",
+                                         "--set", "features.deskew=false", "--set", "localization.association=voxel",
+                                         "--set", "localization.rounds=10"};
+        args.insert(args.end(), extra.begin(), extra.end());
+        return superloc::testing::localizeAndCompare(args, s.dir + "/" + name, s.gt_tum, 1.5);
+    }
+    static superloc::testing::RealSplit kitti_, campus_;
+};
+superloc::testing::RealSplit RealSplitRuns::kitti_, RealSplitRuns::campus_;
+}  // namespace
+
+TEST_F(RealSplitRuns, KittiOddScansInEvenMapFromGroundTruthStart) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    for (const std::string method : {"superloc", "icp"}) {
+        const auto r = localize(kitti_, "gt_start_" + method, {"--initial-pose-tum", kitti_.gt_tum, "--method", method});
+        EXPECT_EQ(r.frames.size(), 8u);
+        EXPECT_EQ(r.summary.diverged, 0u) << method;
+        EXPECT_LT(r.ate, 0.25) << method << ": ATE RMSE [m]";
+        EXPECT_LT(r.worst_deg, 1.0) << method;
+        std::cout << "kitti split, " << method << ", GT start: ATE " << r.ate << " m, worst " << r.worst_m << " m / "
+                  << r.worst_deg << " deg\n";
+    }
+    // The kd-tree association of the default INI settles 0.7 m behind along the road (the
+    // basin issue's finding); the voxel map's coarse start is at least 3x better.
+    const auto nearest = superloc::testing::localizeAndCompare(
+        {"--rawlog", kitti_.rawlog, "--map", kitti_.map, "--set", "rawlog.scans=odd", "--set", "features.deskew=false",
+         "--initial-pose-tum", kitti_.gt_tum, "--method", "icp"},
+        kitti_.dir + "/gt_start_nearest", kitti_.gt_tum, 1.5);
+    const auto voxel = localize(kitti_, "gt_start_voxel", {"--initial-pose-tum", kitti_.gt_tum, "--method", "icp"});
+    EXPECT_GT(nearest.ate, 3 * voxel.ate);
+    std::cout << "kitti split, icp, GT start: nearest ATE " << nearest.ate << " m vs voxel " << voxel.ate << " m\n";
+}
+
+TEST_F(RealSplitRuns, KittiOddScansInEvenMapFromPerturbedStart) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    const Trajectory gt = io::loadTum(kitti_.gt_tum);
+    SE3d T0 = gt.at(1).pose;  // the first odd scan
+    T0.translation() += Vec3d(1.0, 1.0, 0.2);
+    T0.linear() = T0.linear() * Eigen::AngleAxisd(10 * M_PI / 180, Vec3d::UnitZ()).toRotationMatrix();
+    for (const std::string method : {"superloc", "icp"}) {
+        const auto r = localize(kitti_, "perturbed_" + method, {"--initial-pose", poseString(T0), "--method", method});
+        EXPECT_EQ(r.frames.size(), 8u);
+        EXPECT_LT(r.ate, 0.35) << method << ": ATE RMSE [m]";
+        std::cout << "kitti split, " << method << ", start 1.0/1.0/0.2 m 10 deg off: ATE " << r.ate << " m, worst "
+                  << r.worst_m << " m / " << r.worst_deg << " deg\n";
+    }
+}
+
+TEST_F(RealSplitRuns, CampusOddScansInEvenMap) {
     SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
-    const auto r = localize("no_recovery", {"localization.recovery_max_yaw_deg=0"});
+    const auto r = localize(campus_, "campus", {"--initial-pose-tum", campus_.gt_tum});
+    EXPECT_EQ(r.frames.size(), 26u);
+    EXPECT_EQ(r.summary.diverged, 0u);
+    EXPECT_LT(r.ate, 0.05) << "ATE RMSE [m]";
+    EXPECT_LT(r.worst_m, 0.15);
+    std::cout << "campus split: ATE " << r.ate << " m, worst " << r.worst_m << " m / " << r.worst_deg << " deg, "
+              << r.summary.recovered << " frames recovered\n";
+}
+
+TEST_F(RealSplitRuns, CampusWithoutRecoveryTheTurnsLoseTrack) {
+    SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
+    const auto r = localize(campus_, "campus_no_recovery",
+                            {"--initial-pose-tum", campus_.gt_tum, "--set", "localization.recovery_max_yaw_deg=0"});
     EXPECT_EQ(r.summary.recovered, 0u);
-    EXPECT_GT(r.summary.diverged, 0u);
     EXPECT_GT(r.worst_m, 0.3);
-    std::cout << "campus turns without recovery: " << r.summary.diverged << " frames diverged, worst "
-              << r.worst_m << " m, " << r.worst_deg << " deg\n";
+    std::cout << "campus split without recovery: worst " << r.worst_m << " m / " << r.worst_deg << " deg\n";
 }

@@ -341,3 +341,27 @@ TEST(Rawlog, ToleratesSensoryFrameFormatAndPlainPointMaps) {
     EXPECT_TRUE(items[0].scan().intensity.empty());
     EXPECT_NEAR(items[5].time(), 7.5, 1e-6);
 }
+
+TEST(RawlogScans, SelectionSyntax) {
+    io::RawlogParams p;
+    const auto sel = [&](const std::string& s) {
+        p.scans = s;
+        return p.scanSelection();
+    };
+    EXPECT_TRUE(sel("all").contains(7));
+    EXPECT_TRUE(sel("even").contains(4) && !sel("even").contains(5));
+    EXPECT_TRUE(sel("odd").contains(5) && !sel("odd").contains(0));
+    const auto r = sel("10:20:5");
+    EXPECT_TRUE(r.contains(10) && r.contains(15) && !r.contains(20) && !r.contains(11) && !r.contains(5));
+    EXPECT_TRUE(sel("3:").contains(1000) && !sel("3:").contains(2));
+    EXPECT_TRUE(sel("0::5").contains(25) && !sel("0::5").contains(26));
+    for (const char* bad : {"", "some", "5", ":3", "5:2", "1:2:0", "1:2:3:4", "-1:4", "a:b"}) {
+        p.scans = bad;
+        EXPECT_THROW(p.validate(), ConfigError) << bad;
+        try {
+            p.validate();
+        } catch (const ConfigError& e) {
+            EXPECT_NE(std::string(e.what()).find("[rawlog] scans"), std::string::npos) << e.what();
+        }
+    }
+}

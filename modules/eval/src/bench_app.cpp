@@ -121,7 +121,7 @@ std::string BenchApp::prepare(const SequenceSpec& seq, const SequenceFiles& f, s
                 return e;
         if (fresh || !fs::exists(f.prior_map))
             if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel,
-                                         f.prior_map),
+                                         f.prior_map, seq.map_scans),
                               "prior-map");
                 !e.empty())
                 return e;

@@ -1,6 +1,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
 #include <superloc/eval/suite.h>
+#include <superloc/io/rawlog.h>
 
 #include <filesystem>
 #include <fstream>
@@ -78,7 +79,7 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
                               sec + "]");
         checkKeys(c, sec,
                   {"type", "config", "seed", "sim_set", "data", "scans", "gt", "prior_voxel",
-                   "gt_map_voxel", "localize_set"},
+                   "gt_map_voxel", "localize_set", "map_scans", "localize_scans", "circular"},
                   path);
         SequenceSpec q;
         q.name = name;
@@ -101,6 +102,22 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
                     existing(fs::path(q.data) / value(c, sec, "scans", "scans"), where + " scans");
             q.prior_voxel = number(c, sec, "prior_voxel", q.prior_voxel, path);
             q.gt_map_voxel = number(c, sec, "gt_map_voxel", q.gt_map_voxel, path);
+            q.map_scans = value(c, sec, "map_scans", q.map_scans);
+            q.localize_scans = value(c, sec, "localize_scans", q.localize_scans);
+            q.circular = number(c, sec, "circular", 0, path) != 0;
+            for (const auto* k : {&q.map_scans, &q.localize_scans}) {
+                io::RawlogParams rp;
+                rp.scans = *k;
+                try {
+                    rp.scanSelection();
+                } catch (const std::exception& e) {
+                    throw ConfigError(where + ": " + e.what());
+                }
+            }
+            if (q.map_scans == q.localize_scans && !q.circular)
+                throw ConfigError(where + " map_scans = localize_scans = '" + q.map_scans +
+                                  "': the prior map would hold the localized scans (set circular = 1 "
+                                  "for a labelled sanity check)");
         } else {
             throw ConfigError(where + " type = '" + type + "': expected sim, kitti or pcd");
         }
@@ -142,10 +159,12 @@ std::vector<std::string> importCommand(const std::string& tool, const SequenceSp
 
 std::vector<std::string> mapCommand(const std::string& tool, const std::string& rawlog,
                                     const std::string& poses, double voxel,
-                                    const std::string& out) {
+                                    const std::string& out, const std::string& scans) {
     std::ostringstream v;
     v << voxel;
-    return {tool, "--rawlog", rawlog, "--poses", poses, "--voxel", v.str(), "--out", out};
+    std::vector<std::string> a = {tool, "--rawlog", rawlog, "--poses", poses, "--voxel", v.str(), "--out", out};
+    if (scans != "all") a.insert(a.end(), {"--set", "rawlog.scans=" + scans});
+    return a;
 }
 
 std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpec& suite,
@@ -164,6 +183,8 @@ std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpe
                                   "--initial-pose-tum",
                                   files.gt_tum,
                                   "--quiet"};
+    if (seq.kind != SequenceSpec::Kind::Sim && seq.localize_scans != "all")
+        a.insert(a.end(), {"--set", "rawlog.scans=" + seq.localize_scans});
     for (const auto& s : suite.localize_sets) a.insert(a.end(), {"--set", s});
     for (const auto& s : seq.localize_sets) a.insert(a.end(), {"--set", s});
     return a;

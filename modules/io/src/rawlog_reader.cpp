@@ -47,6 +47,8 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
     size_t seq = 0;
     bool eof = false;
     double newest = -INFINITY;  // latest timestamp read
+    RawlogParams::ScanSelection selection;  // [rawlog] scans
+    size_t lidar_index = 0;                 // LiDAR scans emitted or dropped so far
 
     std::string where() const { return path + ": entry " + std::to_string(entry) + ": "; }
 
@@ -176,6 +178,7 @@ RawlogReader::RawlogReader(const std::string& path, const RawlogParams& params)
     params.validate();
     impl_->path = path;
     impl_->params = params;
+    impl_->selection = params.scanSelection();
     if (!std::filesystem::is_regular_file(path))
         throw std::runtime_error(path + ": rawlog not found");
     if (!impl_->file.open(path)) throw std::runtime_error(path + ": cannot open rawlog");
@@ -185,13 +188,17 @@ RawlogReader::~RawlogReader() = default;
 
 bool RawlogReader::next(RawlogItem& item) {
     auto& m = *impl_;
-    // Emit the oldest pending item once nothing still unread can be older than it.
-    while (!m.eof && (m.heap.empty() || m.newest - m.heap.top().t <= m.params.reorder_window))
-        m.readEntry();
-    if (m.heap.empty()) return false;
-    item = std::move(const_cast<Pending&>(m.heap.top()).item);
-    m.heap.pop();
-    return true;
+    // Emit the oldest pending item once nothing still unread can be older than it; LiDAR scans
+    // outside [rawlog] scans are dropped here, in time order.
+    for (;;) {
+        while (!m.eof && (m.heap.empty() || m.newest - m.heap.top().t <= m.params.reorder_window))
+            m.readEntry();
+        if (m.heap.empty()) return false;
+        item = std::move(const_cast<Pending&>(m.heap.top()).item);
+        m.heap.pop();
+        if (item.kind != RawlogItem::Kind::Lidar || m.selection.contains(m.lidar_index++)) return true;
+        ++m.stats.unselected_scans;
+    }
 }
 
 const RawlogStats& RawlogReader::stats() const { return impl_->stats; }

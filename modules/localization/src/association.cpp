@@ -2,6 +2,7 @@
 #include <superloc/localization/association.h>
 
 #include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -9,7 +10,8 @@ namespace superloc::localization {
 
 using features::FeatureType;
 
-void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
+namespace {
+void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                const map::PriorMap& map, const AssociationParams& p,
                std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
                std::vector<uint32_t>* feature_of) {
@@ -17,6 +19,7 @@ void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     stats = {};
     if (feature_of) feature_of->clear();
     if (map.size() == 0) return;
+    // Nearest map point (kd-tree) and its precomputed neighbourhood geometry.
     const float max_d2 = static_cast<float>(p.max_dist * p.max_dist);
     const Mat3d R = T_map_body.linear();
     const Vec3d t = T_map_body.translation();
@@ -65,6 +68,73 @@ void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         out.push_back(c);
         if (feature_of) feature_of->push_back(i);
     }
+}
+
+
+void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
+                     const map::PriorMap& map, const AssociationParams& p,
+                     std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+                     std::vector<uint32_t>* feature_of) {
+    // The voxel containing the point at the level asked for (one hash probe) and its statistics.
+    out.clear();
+    stats = {};
+    if (feature_of) feature_of->clear();
+    const map::VoxelMap& vm = map.voxels();
+    if (vm.levels() == 0) return;
+    const int level = std::clamp(p.level, 0, vm.levels() - 1);
+    const double fit_ref = std::max(p.max_fit_residual, 0.1 * vm.levelSize(level));
+    const Mat3d R = T_map_body.linear();
+    const Vec3d t = T_map_body.translation();
+    for (uint32_t i = 0; i < pts_body.size(); ++i) {
+        const Vec3d x = R * pts_body[i] + t;
+        const map::VoxelStats* v = vm.find(level, x.cast<float>());
+        if (!v) {
+            ++stats.too_far;
+            continue;
+        }
+        fusion::ScanCorrespondence c;
+        c.p = pts_body[i];
+        c.q = v->mean.cast<double>();
+        c.type = features::classifyShape(v->planarity, v->linearity, p.plane_max_thickness,
+                                         p.line_min_linearity);
+        const Vec3d e = x - c.q;
+        double dist = 0;
+        if (c.type == FeatureType::Plane) {
+            c.n = v->normal.cast<double>();
+            if (c.n.squaredNorm() < 0.5) continue;
+            dist = std::abs(c.n.dot(e));
+            c.weight = std::max(0.0, 1.0 - v->thickness / fit_ref);
+        } else if (c.type == FeatureType::Line) {
+            c.n = v->direction.cast<double>();
+            if (c.n.squaredNorm() < 0.5) continue;
+            dist = (e - e.dot(c.n) * c.n).norm();
+            c.weight = v->linearity;
+        } else {
+            dist = e.norm();
+            c.weight = p.point_weight;
+        }
+        if (dist > p.max_dist) {
+            ++stats.too_far;
+            continue;
+        }
+        if (c.weight <= 0) continue;
+        if (c.type == FeatureType::Plane) ++stats.plane;
+        else if (c.type == FeatureType::Line) ++stats.line;
+        else ++stats.point;
+        out.push_back(c);
+        if (feature_of) feature_of->push_back(i);
+    }
+}
+
+}  // namespace
+
+void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
+               const AssociationParams& p, std::vector<fusion::ScanCorrespondence>& out,
+               AssociationStats& stats, std::vector<uint32_t>* feature_of) {
+    if (p.voxel)
+        associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of);
+    else
+        associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of);
 }
 
 InlierStats inlierStats(const std::vector<fusion::ScanCorrespondence>& corr, size_t n_features,

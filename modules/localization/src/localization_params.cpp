@@ -29,10 +29,12 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     method = c.read_string(s, "method", method);
     MRPT_LOAD_CONFIG_VAR(use_imu, bool, c, s);
     output_frame = c.read_string(s, "output_frame", output_frame);
+    MRPT_LOAD_CONFIG_VAR(association, string, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist_init, double, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
@@ -55,10 +57,12 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(method, "icp | ndt | superloc | passive | eigen_remap");
     MRPT_SAVE_CONFIG_VAR_COMMENT(use_imu, "IMU prediction + preintegration factor when available");
     MRPT_SAVE_CONFIG_VAR_COMMENT(output_frame, "reported poses: lidar (T_map_lidar) or body");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map neighbour");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] the same on the first frame's rounds");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "association + solve rounds per frame");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "rounds on the first frame");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map point (nearest) / voxel plane (voxel, finest level)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] nearest: the same on a wide frame's first rounds");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "most association + solve rounds per tracked frame");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");
@@ -88,8 +92,11 @@ void LocalizationParams::validate() const {
     };
     positive(max_corr_dist, "max_corr_dist");
     positive(max_corr_dist_init, "max_corr_dist_init");
+    if (association != "nearest" && association != "voxel")
+        throw ConfigError("[localization] association must be nearest or voxel, not '" + association + "'");
     if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");
     if (rounds_init < 1) throw ConfigError("[localization] rounds_init must be >= 1");
+    positive(max_cv_gap, "max_cv_gap");
     positive(max_fit_residual, "max_fit_residual");
     if (point_weight < 0) throw ConfigError("[localization] point_weight must be >= 0");
     positive(converged_xyz, "converged_xyz");

@@ -30,7 +30,7 @@ void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(map, "prior map file .pcd/.ply/... (--map)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out, "output folder (--out)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose, "x y z qx qy qz qw of the LiDAR in the map");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose_tum, "TUM file: its first pose is the initial pose");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose_tum, "TUM file: its pose at the first scan's time is the initial pose");
     MRPT_SAVE_CONFIG_VAR_COMMENT(localized_map_voxel, "[m] voxel of localized_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(save_localized_map, "write localized_map.pcd");
 }
@@ -150,13 +150,13 @@ std::string LocalizeApp::dumpConfig() const {
 int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     // Initial pose (T_map_lidar).
     std::optional<SE3d> T0;
+    Trajectory T0_tum;  // --initial-pose-tum: interpolated at the first scan's time
     if (!run_.initial_pose.empty()) T0 = parsePoseString(run_.initial_pose, "--initial-pose");
     if (!run_.initial_pose_tum.empty()) {
-        const Trajectory tr = io::loadTum(run_.initial_pose_tum);
-        if (tr.empty()) throw ConfigError(run_.initial_pose_tum + ": no pose in the TUM file");
-        T0 = tr.front().pose;
+        T0_tum = io::loadTum(run_.initial_pose_tum);
+        if (T0_tum.empty()) throw ConfigError(run_.initial_pose_tum + ": no pose in the TUM file");
     }
-    if (!T0) MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin");
+    if (!T0 && T0_tum.empty()) MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin");
 
     const auto t_map = std::chrono::steady_clock::now();
     auto prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
@@ -190,6 +190,15 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
             case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
             case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
             case io::RawlogItem::Kind::Lidar: {
+                if (!T0_tum.empty() && summary_.frames == 0) {
+                    // The pose at the first scan read (e.g. the first odd scan of an even/odd
+                    // split); the file's first pose when the file does not cover that time.
+                    const auto at = interpolateAt(T0_tum, item.scan().t, 1.0, 0.05);
+                    if (!at)
+                        MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
+                                          "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
+                    loc.setInitialPose(at ? *at : T0_tum.front().pose);
+                }
                 const FrameReport r = loc.process(item.scan());
                 const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
                 out.addFrame(r, T, run_.save_localized_map

@@ -44,6 +44,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       g_map_(0, 0, -params.imu.gravity) {
     if (!map_ || map_->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     assoc_.max_dist = params.loc.max_corr_dist;
+    assoc_.voxel = params.loc.association == "voxel";
     assoc_.plane_max_thickness = params.features.plane_max_thickness;
     assoc_.line_min_linearity = params.features.line_min_linearity;
     assoc_.max_fit_residual = params.loc.max_fit_residual;
@@ -140,27 +141,42 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
     const auto& lp = params_.loc;
     const fusion::FrameState prev_saved = prev_;
     const int rounds = rounds_override > 0 ? rounds_override : wide ? lp.rounds_init : lp.rounds;
-    // Coarse to fine: the search radius starts wide when the prediction may be far off (first
-    // frame; second frame without IMU: no velocity yet) and shrinks by 0.7 each time the pose
-    // settles at a radius; within a radius the robust kernel scale halves from radius/2 down to
-    // kernel_scale every round.
-    double radius = wide ? lp.max_corr_dist_init : lp.max_corr_dist;
+    // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
+    // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
+    // starts at the coarsest level, whose metre-sized voxels give a wide basin, a tracked frame
+    // at the finest. Within a level the robust kernel's scale halves every round from a quarter
+    // of the voxel edge (half on wide frames) down to the level's floor (kernel_scale at the
+    // finest, doubled per level); once the pose settles at the floor, the next finer level takes
+    // over; at the finest, it has converged. The gate is max_corr_dist, doubled per level.
+    // association = nearest: the search radius starts at max_corr_dist_init on wide frames and
+    // shrinks by 0.7 each time the pose settles, down to max_corr_dist; the kernel halves from
+    // radius/2 to kernel_scale within each radius.
+    const bool voxel = assoc_.voxel;
+    const int n_levels = voxel ? map_->voxels().levels() : 1;
+    int level = voxel && wide ? n_levels - 1 : 0;
+    double radius = !voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist;
     int in_stage = 0;
     last_stats_ = {};
     corr_.clear();
     std::optional<fusion::RelativePosePrior> prior;
     for (int r = 0; r < rounds; ++r, ++in_stage) {
         // Step 3: associate at the current estimate (the prediction on round 0).
+        const double scale = voxel ? std::pow(2.0, level) : 1.0;
         AssociationParams ap = assoc_;
-        ap.max_dist = radius;
+        ap.level = level;
+        ap.max_dist = voxel ? lp.max_corr_dist * scale : radius;
+        const double floor = params_.fusion.kernel_scale * scale;
         const double kernel =
-            std::max(params_.fusion.kernel_scale, 0.5 * radius * std::pow(0.5, in_stage));
+            std::max(floor, voxel ? (wide ? 0.5 : 0.25) * map_->voxels().levelSize(level) * std::pow(0.5, in_stage)
+                                  : 0.5 * radius * std::pow(0.5, in_stage));
+        const bool finest = voxel ? level == 0 : radius <= lp.max_corr_dist;
         const SE3d T_before = cur_.T_map_imu();
         auto t0 = Clock::now();
         associate(pts_body_, T_before, *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
-        if (r == 0) {
-            // Step 4: alignment risk at the predicted pose, before any optimisation (DESIGN §5).
+        if (r == 0 || (voxel && level == 0 && in_stage == 0 && wide)) {
+            // Step 4: alignment risk before the optimisation at this resolution (DESIGN §5): at the
+            // predicted pose, and for a wide frame again when the finest level starts.
             t0 = Clock::now();
             const auto risk = risk::computeAlignmentRisk(
                 riskInputs(T_before, T_imu_lidar_.translation()), params_.risk);
@@ -169,13 +185,18 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             rep.ms.risk += msSince(t0);
         }
         if (corr_.size() < kMinCorrespondences && !pre) {
+            if (voxel && level > 0) {  // nothing at this level: try the next finer one
+                --level;
+                in_stage = -1;
+                continue;
+            }
             rep.diverged = true;
             rep.diverged_reason = "no_correspondences";
             break;
         }
         // Step 5: joint solve (paper eq. 12) with IRLS weights at the association pose.
         t0 = Clock::now();
-        fusion::ScanFactor scan(corr_, params_.fusion.scan_sigma);
+        fusion::ScanFactor scan(corr_, params_.fusion.scan_sigma * scale);
         scan.setRobustWeights(T_before, kernel_, kernel);
         prev_ = prev_saved;
         fusion::FrameProblemInputs in;
@@ -192,6 +213,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         rep.rounds = r + 1;
         rep.iterations += sum.iterations;
         rep.prior_used = prior.has_value();
+        rep.final_level = level;
         if (!sum.usable) {
             rep.diverged = true;
             rep.diverged_reason = "solver";
@@ -199,16 +221,27 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         }
         if (method_ == Method::EigenRemap) remapUpdate(prev_saved, T_before, scan, rep);
         const SE3d T_after = cur_.T_map_imu();
-        const bool small = translationDistance(T_before, T_after) < lp.converged_xyz &&
-                           rotationAngle(T_before, T_after) < lp.converged_deg * kDeg;
-        if (small && kernel <= params_.fusion.kernel_scale) {
-            if (radius <= lp.max_corr_dist) {
+        const bool small = translationDistance(T_before, T_after) < lp.converged_xyz * scale &&
+                           rotationAngle(T_before, T_after) < lp.converged_deg * scale * kDeg;
+        if (small && kernel <= floor) {
+            if (finest) {
                 rep.converged = true;
                 break;
             }
-            radius = std::max(lp.max_corr_dist, 0.7 * radius);
+            if (voxel)
+                --level;
+            else
+                radius = std::max(lp.max_corr_dist, 0.7 * radius);
             in_stage = -1;
         }
+    }
+    if (voxel && level > 0 && !rep.diverged) {
+        // The rounds ran out before the finest level: associate there once more so that the
+        // frame's quality is measured at full resolution.
+        AssociationParams ap = assoc_;
+        const auto t0 = Clock::now();
+        associate(pts_body_, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
+        rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
 }
@@ -252,13 +285,13 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
     rep.ms.solve += msSince(t0);
 }
 
-void Localizer::finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep) {
+void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep) {
     const auto& lp = params_.loc;
     // Divergence by jump: the solved pose far from the prediction (not on the first frame, whose
     // "prediction" is the user's initial guess). An IMU prediction is trusted over such a
     // registration: the frame keeps the prediction (reason "jump_rejected"), so one bad match
     // cannot throw the velocity, and every later prediction, away.
-    const bool jump = !first && (translationDistance(cur_.T_map_imu(), pred.T_map_imu) > lp.max_jump_xyz ||
+    const bool jump = !unchecked && (translationDistance(cur_.T_map_imu(), pred.T_map_imu) > lp.max_jump_xyz ||
                                  rotationAngle(cur_.T_map_imu(), pred.T_map_imu) > lp.max_jump_deg * kDeg);
     const bool rejected = jump && pred.used_imu;
     if (rejected) {
@@ -370,14 +403,20 @@ FrameReport Localizer::process(const Scan& scan) {
         !first && !pred.used_imu && method_ != Method::Ndt && lp.recovery_max_yaw_deg > 0;
     std::optional<std::pair<FrameReport, fusion::FrameState>> before_solve;
     if (may_recover) before_solve.emplace(rep, cur_);
+    // Unknown velocity (doc/map.md): the first frame, the second without IMU (no velocity yet),
+    // and a constant-velocity prediction over a gap longer than max_cv_gap start coarse, and
+    // their solved pose is not checked against the prediction (it may be far off, rightly).
+    const bool velocity_unknown =
+        first || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
+    rep.coarse_start = velocity_unknown && method_ != Method::Ndt;
     if (method_ == Method::Ndt) {
         solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
     } else {
-        solveIcp(pred.used_imu ? &pre : nullptr, first || (!pred.used_imu && !prev_prev_), rep);
+        solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);
     }
 
     // Step 6: report and state update.
-    finish(scan, pred, first, rep);
+    finish(scan, pred, velocity_unknown, rep);
     if (before_solve &&
         (rep.diverged || rep.inlier_ratio < lp.recovery_inlier_drop * last_tracked_inlier_ratio_)) {
         const auto t_rec = Clock::now();

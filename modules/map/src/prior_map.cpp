@@ -1,4 +1,5 @@
-// PriorMap: voxel filter, kd-tree, and per-point geometry computed once, in parallel.
+// PriorMap: voxel filter and registration voxel map at load; kd-tree and per-point geometry
+// computed once on first use, in parallel.
 #include <mrpt/system/CTicTac.h>
 #include <superloc/core/voxel.h>
 #include <superloc/io/point_cloud_io.h>
@@ -6,6 +7,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <mutex>
 #include <thread>
 
 #include "kdtree.h"
@@ -18,7 +20,14 @@ struct PriorMap::Impl {
     std::vector<PointGeometry> geometry;
     detail::PointsAdaptor adaptor;
     std::unique_ptr<detail::KdTree> tree;
+    VoxelMap voxels;
     double prepare_seconds = 0;
+    // Lazy part: kd-tree and per-point geometry, built by the first query that needs them.
+    std::once_flag tree_once;
+    std::vector<Vec3f> given_normals;
+    std::optional<Vec3f> viewpoint;
+
+    void buildTree();
 
     void computeGeometry(
         size_t begin, size_t end, const std::vector<Vec3f>& given_normals,
@@ -75,21 +84,25 @@ PriorMap::PriorMap(
         filtered = voxelDownsample(clean, static_cast<float>(params.voxel_size));
     }
     impl_->points = std::move(filtered.points);
-    impl_->adaptor.pts = &impl_->points;
-    impl_->tree = std::make_unique<detail::KdTree>(
-        3, impl_->adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
-    impl_->geometry.resize(impl_->points.size());
-
-    const size_t n = impl_->points.size();
-    const size_t threads = std::max(1u, std::thread::hardware_concurrency());
-    const size_t chunk = (n + threads - 1) / threads;
-    std::vector<std::thread> pool;
-    for (size_t t = 0; t < threads && t * chunk < n; ++t)
-        pool.emplace_back([&, t] {
-            impl_->computeGeometry(t * chunk, std::min(n, (t + 1) * chunk), filtered.normals, viewpoint);
-        });
-    for (auto& th : pool) th.join();
+    impl_->given_normals = std::move(filtered.normals);
+    impl_->viewpoint = viewpoint;
+    impl_->voxels = VoxelMap(impl_->points, params.voxelMapParams());
     impl_->prepare_seconds = timer.Tac();
+}
+
+void PriorMap::Impl::buildTree() {
+    std::call_once(tree_once, [this] {
+        adaptor.pts = &points;
+        tree = std::make_unique<detail::KdTree>(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
+        geometry.resize(points.size());
+        const size_t n = points.size();
+        const size_t threads = std::max(1u, std::thread::hardware_concurrency());
+        const size_t chunk = (n + threads - 1) / threads;
+        std::vector<std::thread> pool;
+        for (size_t t = 0; t < threads && t * chunk < n; ++t)
+            pool.emplace_back([&, t] { computeGeometry(t * chunk, std::min(n, (t + 1) * chunk), given_normals, viewpoint); });
+        for (auto& th : pool) th.join();
+    });
 }
 
 PriorMap::~PriorMap() = default;
@@ -103,10 +116,23 @@ PriorMap PriorMap::load(const std::string& path, const MapParams& params) {
 size_t PriorMap::size() const { return impl_->points.size(); }
 const std::vector<Vec3f>& PriorMap::points() const { return impl_->points; }
 const Vec3f& PriorMap::point(size_t i) const { return impl_->points.at(i); }
-const PointGeometry& PriorMap::geometry(size_t i) const { return impl_->geometry.at(i); }
+const PointGeometry& PriorMap::geometry(size_t i) const {
+    impl_->buildTree();
+    return impl_->geometry.at(i);
+}
+const VoxelMap& PriorMap::voxels() const { return impl_->voxels; }
 double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
 
+size_t PriorMap::memoryBytes() const {
+    size_t b = impl_->points.capacity() * sizeof(Vec3f) + impl_->voxels.memoryBytes() +
+               impl_->given_normals.capacity() * sizeof(Vec3f) +
+               impl_->geometry.capacity() * sizeof(PointGeometry);
+    if (impl_->tree) b += impl_->tree->usedMemory(*impl_->tree);
+    return b;
+}
+
 void PriorMap::knn(const Vec3f& q, size_t k, Neighbors& out) const {
+    impl_->buildTree();
     k = std::min(k, impl_->points.size());
     out.indices.resize(k);
     out.sq_dists.resize(k);
@@ -119,6 +145,7 @@ void PriorMap::knn(const Vec3f& q, size_t k, Neighbors& out) const {
 std::pair<uint32_t, float> PriorMap::nearest(const Vec3f& q) const {
     if (impl_->points.empty())
         return {std::numeric_limits<uint32_t>::max(), std::numeric_limits<float>::infinity()};
+    impl_->buildTree();
     uint32_t idx = 0;
     float d2 = 0;
     impl_->tree->knnSearch(q.data(), 1, &idx, &d2);

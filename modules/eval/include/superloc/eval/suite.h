@@ -35,6 +35,10 @@ struct SequenceSpec {
     std::string gt;                     ///< real: GT TUM (absolute)
     double prior_voxel = 0.1;           ///< [m] real: voxel of the prior map built from the scans
     double gt_map_voxel = 0.02;         ///< [m] real: voxel of the GT map built from the scans
+    /// real: the scans the prior map is built from and the scans localized in it ([rawlog]
+    /// scans syntax). Never the same scans (the honest protocol, DESIGN §8), unless `circular`.
+    std::string map_scans = "even", localize_scans = "odd";
+    bool circular = false;              ///< real: a labelled sanity check with map_scans == localize_scans
     std::vector<std::string> localize_sets;  ///< extra --set for this sequence's localize runs
 };
 
@@ -64,8 +68,10 @@ std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec&
                                     const std::string& dir);
 std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq,
                                        const std::string& rawlog);
+/// superloc-map over the scans `scans` ([rawlog] scans syntax; "all" adds no flag).
 std::vector<std::string> mapCommand(const std::string& tool, const std::string& rawlog,
-                                    const std::string& poses, double voxel, const std::string& out);
+                                    const std::string& poses, double voxel,
+                                    const std::string& out, const std::string& scans = "all");
 std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpec& suite,
                                          const SequenceSpec& seq, const std::string& method,
                                          const SequenceFiles& files, const std::string& out_dir);

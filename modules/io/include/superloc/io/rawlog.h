@@ -36,6 +36,18 @@ struct RawlogParams : public mrpt::config::CLoadableOptions {
     int rotation_sense = 1;
     /// [deg] azimuth at which a sweep starts (the first firing)
     double start_azimuth_deg = 180.0;
+    /// Which LiDAR scans to read, by their 0-based index in time order: `all`, `even`, `odd`,
+    /// or `FIRST:END[:STEP]` (END exclusive, empty = to the end). The honest real-data protocol
+    /// (doc/evaluation.md) maps one subset and localizes another, e.g. even -> odd.
+    std::string scans = "all";
+
+    /// The parsed `scans`: index i is read when i >= first, i < end and (i - first) % step == 0.
+    struct ScanSelection {
+        size_t first = 0, end = SIZE_MAX, step = 1;
+        bool contains(size_t i) const { return i >= first && i < end && (i - first) % step == 0; }
+    };
+    /// Throws ConfigError naming [rawlog] scans when the text is not one of the forms above.
+    ScanSelection scanSelection() const;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -63,6 +75,7 @@ struct RawlogStats {
     size_t empty_scans = 0;           ///< LiDAR observations with no valid point (skipped)
     size_t invalid_imu = 0;           ///< IMU samples without acc+gyro or with NaN (skipped)
     size_t skipped_labels = 0;        ///< LiDAR/IMU observations of a non-configured label
+    size_t unselected_scans = 0;      ///< LiDAR scans left out by [rawlog] scans
     size_t max_pending = 0;           ///< most items held at once in the re-sort window
 };
 

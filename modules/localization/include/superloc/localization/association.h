@@ -1,6 +1,8 @@
-// Data association with the prior map at a pose (DESIGN §4 step 3; paper §III-A): for each
-// scan feature, the nearest map point and its precomputed neighbourhood geometry decide a
-// point-to-plane, point-to-line or point-to-point correspondence with a fit weight.
+// Data association with the prior map at a pose (DESIGN §4 step 3; paper §III-A), two ways:
+//  - nearest (default): the nearest map point (kd-tree) and its precomputed neighbourhood
+//    geometry decide a point-to-plane, -line or -point correspondence with a fit weight;
+//  - voxel: the registration voxel map's voxel that contains the feature (one hash probe, at the
+//    level asked for) and that voxel's point statistics decide it (doc/map.md).
 #pragma once
 
 #include <superloc/fusion/scan_factor.h>
@@ -11,17 +13,21 @@
 namespace superloc::localization {
 
 struct AssociationParams {
-    double max_dist = 1.0;             ///< [m] nearest map point farther: no correspondence
+    bool voxel = false;                ///< voxel map association instead of nearest map point
+    int level = 0;                     ///< voxel map level (0 = finest), voxel association only
+    double max_dist = 1.0;             ///< [m] plane / line / centroid farther: no correspondence
     double plane_max_thickness = 0.1;  ///< see features::classifyShape
     double line_min_linearity = 0.7;
-    double max_fit_residual = 0.1;     ///< [m] plane fit RMS giving weight 0
-    double point_weight = 0.1;         ///< weight of a point-to-point correspondence
-    size_t line_knn = 6;               ///< neighbours used for a line's direction
+    /// [m] plane fit RMS giving weight 0 at the finest level; a level of voxel edge s uses
+    /// max(max_fit_residual, 0.1 s) (coarse voxels hold rougher patches)
+    double max_fit_residual = 0.1;
+    double point_weight = 0.1;         ///< weight of a point-to-point (centroid) correspondence
+    size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
 };
 
 struct AssociationStats {
     size_t plane = 0, line = 0, point = 0;  ///< correspondences by type
-    size_t too_far = 0;                     ///< features without a map point within max_dist
+    size_t too_far = 0;                     ///< features with no map point / voxel within max_dist
     size_t total() const { return plane + line + point; }
 };
 

@@ -57,6 +57,8 @@ struct FrameReport {
     double residual_rms = 0;      ///< [m] RMS residual of those inliers
     int rounds = 0;               ///< association rounds run
     int iterations = 0;           ///< solver iterations over all rounds
+    int final_level = 0;          ///< voxel map level of the last round (0 = finest)
+    bool coarse_start = false;    ///< velocity unknown: solved from the coarsest level, no jump check
     bool converged = false;       ///< last round's update below the thresholds
     bool diverged = false;        ///< divergence detected (see reason)
     std::string diverged_reason;  ///< "inliers", "jump", "no_correspondences", "solver", ...

@@ -18,10 +18,19 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 
     // Association (paper §III-A, DESIGN §4 step 3)
-    double max_corr_dist = 1.0;        ///< [m] map neighbour farther than this: no correspondence
-    double max_corr_dist_init = 3.0;   ///< [m] the same, for the first rounds of the first frame
-    int rounds = 4;                    ///< association + solve rounds per frame
-    int rounds_init = 40;              ///< rounds on the first frame (initial pose may be off)
+    /// nearest: nearest map point (kd-tree) + its neighbourhood's plane/line; voxel: the
+    /// registration voxel map, coarse to fine (doc/map.md; experimental, not the default yet)
+    std::string association = "nearest";
+    /// [m] no correspondence beyond this: nearest map point (nearest), or voxel plane / line /
+    /// centroid at the finest level, doubled per coarser level (voxel)
+    double max_corr_dist = 1.0;
+    double max_corr_dist_init = 3.0;   ///< [m] nearest: the same, for the first rounds of a wide frame
+    /// most association + solve rounds of a tracked frame (it stops earlier when settled)
+    int rounds = 4;
+    int rounds_init = 40;              ///< the same for a frame whose velocity is unknown
+    /// [s] without IMU, a constant-velocity prediction over a longer gap counts as unknown
+    /// velocity: the frame starts at the coarsest level and skips the jump check
+    double max_cv_gap = 0.5;
     double max_fit_residual = 0.1;     ///< [m] map plane fit RMS giving weight 0
     /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
     /// and slow to converge from a far initial pose, so off by default)

@@ -86,7 +86,8 @@ class Localizer : public mrpt::system::COutputLogger {
     /// `rounds` > 0 overrides the number of association rounds.
     void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, int rounds = 0);
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
-    void finish(const Scan& scan, const Prediction& pred, bool first, FrameReport& rep);
+    /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
+    void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
     /// Recovery of a diverged constant-velocity frame (LocalizationParams::recovery_*): re-solves
     /// from yaw hypotheses, starting each from `base` / `start` (the frame before its solve);
     /// when one passes, replaces rep and the state with it and returns true, else leaves both

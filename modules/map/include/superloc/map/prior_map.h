@@ -1,9 +1,11 @@
-// The prior map: voxelized map points with a kd-tree and per-point normal, planarity,
-// linearity and local fit residual, computed once at load time.
+// The prior map: voxelized map points and the multi-resolution voxel map registration uses
+// (built at load). A kd-tree and per-point normal, planarity, linearity and fit residual are
+// built on first use (superloc-map's normals, tests), never by the localizer.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <superloc/core/types.h>
+#include <superloc/map/voxel_map.h>
 
 #include <memory>
 #include <optional>
@@ -17,6 +19,13 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     double voxel_size = 0.1;   ///< [m] voxel filter of the loaded map (0 = keep every point)
     int normal_k = 10;         ///< neighbours used for each point's normal/planarity
     double normal_max_radius = 1.0;  ///< [m] neighbours farther than this are not used
+    // Registration voxel map (voxel_map.h, doc/map.md)
+    double reg_voxel = 0.5;     ///< [m] finest level's voxel edge
+    int reg_levels = 3;         ///< levels, each twice as coarse as the previous
+    double reg_overlap = 0.0;   ///< dilation of each voxel per side, fraction of its edge (doc/map.md)
+    int reg_min_points = 5;     ///< voxels with fewer map points are dropped
+
+    VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -46,9 +55,9 @@ struct Neighbors {
 
 class PriorMap {
    public:
-    /// Voxel-filters `cloud` (MapParams::voxel_size), builds the kd-tree and the per-point
-    /// geometry. Normals are flipped toward `viewpoint` when given (else toward their normals'
-    /// existing sign when the cloud had normals; else left unsigned).
+    /// Voxel-filters `cloud` (MapParams::voxel_size) and builds the registration voxel map.
+    /// The per-point geometry (built on first use) has its normals flipped toward `viewpoint`
+    /// when given (else toward the cloud's own normals when it had some; else left unsigned).
     PriorMap(const PointCloud& cloud, const MapParams& params,
              const std::optional<Vec3f>& viewpoint = std::nullopt);
     ~PriorMap();
@@ -61,15 +70,21 @@ class PriorMap {
     size_t size() const;
     const std::vector<Vec3f>& points() const;
     const Vec3f& point(size_t i) const;
+    /// Per-point PCA geometry; the first call builds the kd-tree and every point's geometry.
     const PointGeometry& geometry(size_t i) const;
+    /// The registration map (association of the localizer).
+    const VoxelMap& voxels() const;
 
-    /// k nearest map points to q (fewer if the map is smaller); thread-safe.
+    /// k nearest map points to q (fewer if the map is smaller); thread-safe. The first call
+    /// builds the kd-tree.
     void knn(const Vec3f& q, size_t k, Neighbors& out) const;
     /// Nearest map point index and squared distance; thread-safe.
     std::pair<uint32_t, float> nearest(const Vec3f& q) const;
 
-    /// Seconds spent voxelizing, building the kd-tree and computing geometry.
+    /// Seconds spent voxelizing and building the voxel map (the lazy kd-tree not included).
     double prepareSeconds() const;
+    /// Resident bytes of the points, the voxel map and (once built) the kd-tree and geometry.
+    size_t memoryBytes() const;
 
    private:
     struct Impl;

@@ -1,0 +1,111 @@
+// The registration map: a multi-resolution hashed voxel map of the prior map (doc/map.md).
+//
+// Each level is a grid of cubic voxels of edge `size`; a voxel stores the statistics of the map
+// points inside its cube *dilated* by `overlap * size` on every side (mean, covariance shape,
+// plane normal, line direction, plane thickness). Because neighbouring voxels share the points
+// near their common faces, the voxel that contains a query point describes the surface around
+// that point even when the point sits on a voxel face: association is one hash probe per query
+// and level, O(1) whatever the map's size, instead of a kd-tree search.
+//
+// Coarse levels (metres) give registration a wide basin, as NDT's 1 m cells do; the finest
+// level gives the accuracy. Built once at load, in time and memory linear in the map's points
+// (nothing per point is kept).
+#pragma once
+
+#include <superloc/core/types.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace superloc::map {
+
+/// Statistics of the map points in one (dilated) voxel. 48 bytes.
+struct VoxelStats {
+    Vec3f mean = Vec3f::Zero();       ///< [m] centroid
+    Vec3f normal = Vec3f::Zero();     ///< unit, eigenvector of the smallest eigenvalue (unsigned)
+    Vec3f direction = Vec3f::Zero();  ///< unit, eigenvector of the largest eigenvalue
+    float planarity = 0;              ///< (l2 - l3) / l1
+    float linearity = 0;              ///< (l1 - l2) / l1
+    float thickness = 0;              ///< [m] RMS distance of the points to their plane, sqrt(l3)
+};
+
+struct VoxelLevelInfo {
+    double size = 0;        ///< [m] voxel edge
+    size_t voxels = 0;      ///< voxels with at least min_points points
+    size_t table_bytes = 0; ///< hash table size
+};
+
+class VoxelMap {
+   public:
+    struct Params {
+        double finest = 0.5;    ///< [m] edge of the finest level's voxels
+        int levels = 3;         ///< number of levels; each is twice as coarse as the previous
+        double overlap = 0.0;   ///< dilation of each voxel's cube per side, as a fraction of its edge
+        int min_points = 5;     ///< voxels with fewer points are dropped
+    };
+
+    VoxelMap() = default;
+    /// Builds every level from `points` (any density). Throws std::invalid_argument for bad params.
+    VoxelMap(const std::vector<Vec3f>& points, const Params& params);
+
+    int levels() const { return static_cast<int>(levels_.size()); }
+    double levelSize(int level) const { return levels_.at(static_cast<size_t>(level)).size; }
+    /// Statistics of the voxel containing x at `level` (0 = finest), or nullptr when it is empty.
+    inline const VoxelStats* find(int level, const Vec3f& x) const;
+
+    std::vector<VoxelLevelInfo> info() const;
+    /// Resident bytes of all levels (tables and statistics).
+    size_t memoryBytes() const;
+    const Params& params() const { return params_; }
+
+   private:
+    struct Slot {
+        uint64_t key = kEmpty;
+        VoxelStats stats;
+    };
+    static constexpr uint64_t kEmpty = ~0ull;
+    struct Level {
+        double size = 0;
+        float inv = 0;
+        std::vector<Slot> table;  ///< open addressing, linear probing; power-of-two size
+        uint64_t mask = 0;
+        size_t count = 0;
+    };
+    static uint64_t packKey(int64_t x, int64_t y, int64_t z);
+    static inline uint64_t mix(uint64_t k);
+    void buildLevel(const std::vector<Vec3f>& points, Level& level) const;
+
+    Params params_;
+    std::vector<Level> levels_;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+inline uint64_t VoxelMap::mix(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return k;
+}
+
+inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
+    const Level& L = levels_[static_cast<size_t>(level)];
+    if (L.table.empty()) return nullptr;
+    const Vec3f s = x * L.inv;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return nullptr;
+    const uint64_t key = packKey(static_cast<int64_t>(std::floor(s.x())), static_cast<int64_t>(std::floor(s.y())),
+                                 static_cast<int64_t>(std::floor(s.z())));
+    for (uint64_t h = mix(key) & L.mask;; h = (h + 1) & L.mask) {
+        const Slot& slot = L.table[h];
+        if (slot.key == key) return &slot.stats;
+        if (slot.key == kEmpty) return nullptr;
+    }
+}
+
+inline uint64_t VoxelMap::packKey(int64_t x, int64_t y, int64_t z) {
+    const auto q = [](int64_t v) { return static_cast<uint64_t>(v + (1 << 20)) & 0x1FFFFFu; };
+    return (q(x) << 42) | (q(y) << 21) | q(z);
+}
+
+}  // namespace superloc::map

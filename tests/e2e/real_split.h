@@ -1,0 +1,75 @@
+// The honest real-data protocol of the e2e tests (DESIGN §8): a real sequence imported once,
+// its prior map built from one subset of its scans (even) at their GT poses, and another subset
+// (odd) localized in it. Nothing here localizes a scan in a map that holds it.
+#pragma once
+
+#include <superloc/core/se3.h>
+#include <superloc/io/importers.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/rawlog.h>
+#include <superloc/io/tum.h>
+#include <superloc/map/map_builder.h>
+#include <superloc/map/prior_map.h>
+#include <superloc_testing/testing.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace superloc::testing {
+
+struct RealSplit {
+    std::string dir;        ///< fixture folder
+    std::string rawlog;     ///< every scan (+ gt)
+    std::string map;        ///< prior map from `map_scans`
+    std::string gt_tum;     ///< GT of every scan
+    bool ok = false;        ///< the shared data was there
+};
+
+/// Imports `data` (kitti00-mini or campus-ouster) into DIR and builds the prior map from the
+/// scans `map_scans` at `voxel` (superloc-map's defaults otherwise).
+inline RealSplit prepareRealSplit(const std::string& name, const std::string& data, const std::string& map_scans,
+                                  double voxel) {
+    namespace fs = std::filesystem;
+    RealSplit s;
+    s.dir = freshDir(name);
+    const bool kitti = data == "kitti00-mini";
+    s.gt_tum = sharedData(data + (kitti ? "/gt_velodyne_tum.txt" : "/gt_tum.txt"));
+    if (!fs::exists(s.gt_tum)) return s;
+    s.rawlog = s.dir + "/all.rawlog";
+    if (kitti)
+        io::importKitti(sharedData(data), s.gt_tum, "", s.rawlog);
+    else
+        io::importPcdFolder(sharedData(data + "/scans"), s.gt_tum, "", s.rawlog);
+    map::MapBuildOptions o;
+    o.rawlog = s.rawlog;
+    o.poses_tum = s.gt_tum;
+    o.voxel = voxel;
+    o.normals = false;
+    o.rawlog_params.scans = map_scans;
+    map::MapBuilder b(o);
+    b.setMinLoggingLevel(mrpt::system::LVL_WARN);
+    s.map = s.dir + "/map_" + map_scans + ".pcd";
+    io::savePointCloud(s.map, b.build());
+    s.ok = true;
+    return s;
+}
+
+/// The scans `scans` of a rawlog with their GT poses (interpolated at each scan's time).
+inline void readScans(const std::string& rawlog, const std::string& scans, const Trajectory& gt,
+                      std::vector<Scan>& out, std::vector<SE3d>& T_gt) {
+    io::RawlogParams rp;
+    rp.scans = scans;
+    io::RawlogReader r(rawlog, rp);
+    io::RawlogItem it;
+    while (r.next(it))
+        if (it.kind == io::RawlogItem::Kind::Lidar) {
+            const auto g = interpolateAt(gt, it.scan().t, 1.0, 1e-3);
+            if (!g) continue;
+            out.push_back(it.scan());
+            T_gt.push_back(*g);
+        }
+}
+
+}  // namespace superloc::testing
