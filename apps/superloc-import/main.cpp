@@ -25,7 +25,8 @@ namespace {
 
 const char* kUsage =
     "Usage: superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag FILE.bag [--list])\n"
-    "                       [--poses TUM] [--times FILE] [--config INI] [--set rosbag.KEY=V]...\n"
+    "                       [--poses TUM] [--times FILE] [--imu-csv F] [--odom-csv F]\n"
+    "                       [--config INI] [--set rosbag.KEY=V]...\n"
     "                       --out FILE.rawlog\n"
     "  --kitti DIR    KITTI odometry folder: DIR/velodyne/NNNNNN.bin and DIR/times.txt\n"
     "  --pcd-dir DIR  folder of PCD scans (sorted by file name)\n"
@@ -40,11 +41,14 @@ const char* kUsage =
     "                 written as `gt` CObservationRobotPose observations (--kitti, --pcd-dir)\n"
     "  --times FILE   scan times [s], one per line (default: DIR/times.txt for KITTI, the\n"
     "                 --poses timestamps for a PCD folder)\n"
+    "  --imu-csv F    IMU samples to add: t, ax, ay, az, wx, wy, wz per line (header optional)\n"
+    "  --odom-csv F   second odometry to add as `odom_alt`: t x y z qx qy qz qw [+ 21 values,\n"
+    "                 the covariance's upper triangle row by row, x y z roll pitch yaw]\n"
     "  --out FILE     output rawlog (one LiDAR observation per scan, label `lidar`)\n"
     "  --quiet        no summary on stdout\n";
 
 struct Args {
-    std::string kitti, pcd_dir, rosbag, poses, times, out, config;
+    std::string kitti, pcd_dir, rosbag, poses, times, out, config, imu_csv, odom_csv;
     std::vector<std::string> sets;
     bool quiet = false, help = false, list = false, dump_config = false;
 };
@@ -74,6 +78,10 @@ Args parse(int argc, char** argv) {
             a.poses = value();
         else if (k == "--times")
             a.times = value();
+        else if (k == "--imu-csv")
+            a.imu_csv = value();
+        else if (k == "--odom-csv")
+            a.odom_csv = value();
         else if (k == "--out")
             a.out = value();
         else if (k == "--quiet")
@@ -112,13 +120,15 @@ superloc::io::RosbagParams loadRosbagParams(const Args& a) {
 
 #ifdef SUPERLOC_HAVE_ROS1
 int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
-              const superloc::io::ProgressFn& bar) {
+              const superloc::io::ProgressFn& bar, superloc::io::ImportExtras extras) {
     if (a.list) {
         for (const auto& t : superloc::io::listRosbag(a.rosbag))
             std::cout << t.topic << "  " << t.type << "  " << t.messages << " messages\n";
         return 0;
     }
-    const auto r = superloc::io::importRosbag(a.rosbag, params, a.out, bar);
+    extras.imu_label = params.imu_label;
+    extras.odom_alt_label = params.odom_alt_label;
+    const auto r = superloc::io::importRosbag(a.rosbag, params, a.out, bar, extras);
     for (const auto& [topic, n] : r.non_monotonic)
         std::cerr << "superloc-import: warning: " << a.rosbag << ": topic '" << topic << "': " << n
                   << " messages skipped (header.stamp did not increase)\n";
@@ -131,7 +141,8 @@ int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
     return 0;
 }
 #else
-int runRosbag(const Args&, const superloc::io::RosbagParams&, const superloc::io::ProgressFn&) {
+int runRosbag(const Args&, const superloc::io::RosbagParams&, const superloc::io::ProgressFn&,
+              const superloc::io::ImportExtras&) {
     throw std::runtime_error(
         "--rosbag: this build has no ROS 1 bag support (install librosbag-storage-dev and the "
         "message -dev packages with scripts/install-deps.sh, then re-run cmake)");
@@ -158,13 +169,18 @@ int run(int argc, char** argv) {
                          mrpt::system::progress(double(done) / total, 40).c_str(), done, total);
             if (done == total) std::fprintf(stderr, "\n");
         };
-    if (!a.rosbag.empty()) return runRosbag(a, rosbag_params, bar);
-    const auto r = a.kitti.empty()
-                       ? superloc::io::importPcdFolder(a.pcd_dir, a.poses, a.times, a.out, bar)
-                       : superloc::io::importKitti(a.kitti, a.poses, a.times, a.out, bar);
+    superloc::io::ImportExtras extras;
+    if (!a.imu_csv.empty()) extras.imu = superloc::io::loadImuCsv(a.imu_csv);
+    if (!a.odom_csv.empty()) extras.odom_alt = superloc::io::loadOdomCsv(a.odom_csv);
+    if (!a.rosbag.empty()) return runRosbag(a, rosbag_params, bar, extras);
+    const auto r =
+        a.kitti.empty()
+            ? superloc::io::importPcdFolder(a.pcd_dir, a.poses, a.times, a.out, bar, extras)
+            : superloc::io::importKitti(a.kitti, a.poses, a.times, a.out, bar, extras);
     if (!a.quiet)
         std::cout << a.out << ": " << r.scans << " scans, " << r.points << " points, " << r.gt_poses
-                  << " gt poses, " << r.dropped_points << " NaN/inf points dropped\n";
+                  << " gt poses, " << r.imu << " imu, " << r.odom_alt << " odom_alt, "
+                  << r.dropped_points << " NaN/inf points dropped\n";
     return 0;
 }
 

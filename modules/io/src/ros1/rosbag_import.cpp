@@ -19,6 +19,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../extras_writer.h"
 #include "../pointcloud2.h"
 
 namespace superloc::io {
@@ -194,7 +195,8 @@ std::vector<BagTopic> listRosbag(const std::string& bag) {
 }
 
 RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& p,
-                                const std::string& out_rawlog, const ProgressFn& progress) {
+                                const std::string& out_rawlog, const ProgressFn& progress,
+                                const ImportExtras& extras) {
     p.validate();
     rosbag::Bag b;
     openBag(b, bag);
@@ -282,12 +284,14 @@ RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& p,
                                       p.point_time_reference};
         Monotonic mono;
         RawlogWriter w(out_rawlog);
+        detail::ExtrasWriter ex(extras, r);
         for (const rosbag::MessageInstance& m : view) {
             const std::string& topic = m.getTopic();
             if (topic == r.lidar_topic) {
                 const auto pc = instantiate<sensor_msgs::PointCloud2>(m, bag);
                 const double t = toSec(pc->header.stamp);
                 if (!mono.accept(topic, t)) continue;
+                ex.flushUntil(w, t);
                 detail::PointCloud2View v;
                 v.stamp = t;
                 v.height = pc->height;
@@ -356,6 +360,7 @@ RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& p,
                 ++(is_gt ? r.gt_poses : r.odom_alt);
             }
         }
+        ex.flushAll(w);
         w.close();
         r.non_monotonic = mono.skipped();
     } catch (const rosbag::BagException& e) {

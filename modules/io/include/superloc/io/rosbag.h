@@ -53,8 +53,6 @@ struct BagTopic {
 
 /// What importRosbag() did, beyond ImportResult.
 struct RosbagImportResult : ImportResult {
-    size_t imu = 0;                 ///< CObservationIMU written
-    size_t odom_alt = 0;            ///< `odom_alt` poses written
     size_t timed_scans = 0;         ///< scans written with per-point time
     std::string lidar_topic, imu_topic;  ///< the topics used ("" = none)
     std::string time_field;         ///< per-point time field of the first timed scan
@@ -71,6 +69,7 @@ std::vector<BagTopic> listRosbag(const std::string& bag);
 /// an unresolvable extrinsic. A message whose stamp does not increase on its topic is skipped and
 /// counted (RosbagImportResult::non_monotonic).
 RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& params,
-                                const std::string& out_rawlog, const ProgressFn& progress = {});
+                                const std::string& out_rawlog, const ProgressFn& progress = {},
+                                const ImportExtras& extras = {});
 
 }  // namespace superloc::io
