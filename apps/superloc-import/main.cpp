@@ -9,7 +9,9 @@
 #include <superloc/core/config.h>
 #include <superloc/core/errors.h>
 #include <superloc/io/importers.h>
+#include <superloc/io/rawlog.h>
 #include <superloc/io/rosbag.h>
+#include <superloc/io/tum.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -44,11 +46,12 @@ const char* kUsage =
     "  --imu-csv F    IMU samples to add: t, ax, ay, az, wx, wy, wz per line (header optional)\n"
     "  --odom-csv F   second odometry to add as `odom_alt`: t x y z qx qy qz qw [+ 21 values,\n"
     "                 the covariance's upper triangle row by row, x y z roll pitch yaw]\n"
+    "  --gt-tum F     also write the rawlog's `gt` poses as a TUM file (for evo, superloc-eval)\n"
     "  --out FILE     output rawlog (one LiDAR observation per scan, label `lidar`)\n"
     "  --quiet        no summary on stdout\n";
 
 struct Args {
-    std::string kitti, pcd_dir, rosbag, poses, times, out, config, imu_csv, odom_csv;
+    std::string kitti, pcd_dir, rosbag, poses, times, out, config, imu_csv, odom_csv, gt_tum;
     std::vector<std::string> sets;
     bool quiet = false, help = false, list = false, dump_config = false;
 };
@@ -78,6 +81,8 @@ Args parse(int argc, char** argv) {
             a.poses = value();
         else if (k == "--times")
             a.times = value();
+        else if (k == "--gt-tum")
+            a.gt_tum = value();
         else if (k == "--imu-csv")
             a.imu_csv = value();
         else if (k == "--odom-csv")
@@ -118,6 +123,21 @@ superloc::io::RosbagParams loadRosbagParams(const Args& a) {
         cfg, "rosbag", a.sets.empty() ? source : source + " / --set");
 }
 
+/// --gt-tum: the `gt` poses of the written rawlog as TUM.
+void writeGtTum(const Args& a, const std::string& gt_label) {
+    if (a.gt_tum.empty()) return;
+    superloc::io::RawlogParams rp;
+    rp.gt_label = gt_label;
+    rp.scan_period = 0;
+    superloc::io::RawlogReader reader(a.out, rp);
+    superloc::Trajectory gt;
+    superloc::io::RawlogItem it;
+    while (reader.next(it))
+        if (it.kind == superloc::io::RawlogItem::Kind::GroundTruth) gt.push_back(it.pose());
+    if (gt.empty()) throw std::runtime_error("--gt-tum: " + a.out + " has no `" + gt_label + "` poses");
+    superloc::io::saveTum(a.gt_tum, gt);
+}
+
 #ifdef SUPERLOC_HAVE_ROS1
 int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
               const superloc::io::ProgressFn& bar, superloc::io::ImportExtras extras) {
@@ -138,6 +158,7 @@ int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
                   << (r.time_field.empty() ? "" : " '" + r.time_field + "'") << "), " << r.points
                   << " points, " << r.imu << " imu, " << r.odom_alt << " odom_alt, " << r.gt_poses
                   << " gt poses, " << r.dropped_points << " NaN/inf points dropped\n";
+    writeGtTum(a, params.gt_label);
     return 0;
 }
 #else
@@ -181,6 +202,7 @@ int run(int argc, char** argv) {
         std::cout << a.out << ": " << r.scans << " scans, " << r.points << " points, " << r.gt_poses
                   << " gt poses, " << r.imu << " imu, " << r.odom_alt << " odom_alt, "
                   << r.dropped_points << " NaN/inf points dropped\n";
+    writeGtTum(a, "gt");
     return 0;
 }
 
