@@ -3,7 +3,10 @@
 set -euo pipefail
 PKGS=(cmake ninja-build g++ pkg-config
       libmrpt-dev mrpt-apps libceres-dev libpcl-dev libeigen3-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev)
+      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev
+      # ROS 1 bags (superloc-import --rosbag): rosbag_storage and the message headers
+      librosbag-storage-dev pluginlib-dev libsensor-msgs-dev libnav-msgs-dev
+      libgeometry-msgs-dev libtf2-msgs-dev)
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 missing=()

@@ -1,5 +1,6 @@
 // The superloc-import executable itself: exit codes, one-line errors, a real KITTI import.
 #include <superloc/io/rawlog.h>
+#include <superloc/io/tum.h>
 #include <superloc_testing/testing.h>
 #include <sys/wait.h>
 
@@ -69,3 +70,29 @@ TEST(SuperlocImportExe, ImportsKittiMini) {
     EXPECT_EQ(reader.stats().lidar, 16u);
     EXPECT_EQ(reader.stats().gt, 16u);
 }
+
+#ifdef SUPERLOC_HAVE_ROS1
+TEST(SuperlocImportExe, RosbagListImportAndErrors) {
+    if (!std::filesystem::exists(kExe)) GTEST_SKIP() << "superloc-import not built: " << kExe;
+    SUPERLOC_REQUIRE_DATA("rosbag-kitti00-mini/kitti00-mini.bag");
+    const auto dir = superloc::testing::freshDir("import_exe_rosbag");
+    const auto bag = superloc::testing::sharedData("rosbag-kitti00-mini/kitti00-mini.bag");
+    const ExeResult list = runExe("--rosbag " + bag + " --list", dir);
+    ASSERT_EQ(list.code, 0) << list.err;
+    EXPECT_NE(list.out.find("/velodyne_points  sensor_msgs/PointCloud2  16 messages"),
+              std::string::npos) << list.out;
+    const ExeResult r = runExe("--rosbag " + bag + " --set rosbag.gt_topic=/ground_truth --out " +
+                                   dir + "/b.rawlog --gt-tum " + dir + "/gt.tum",
+                               dir);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("16 scans (/velodyne_points, 0 with per-point time), 1959619 points"),
+              std::string::npos) << r.out;
+    EXPECT_EQ(superloc::io::loadTum(dir + "/gt.tum").size(), 16u);
+    for (const std::string args : {"--set rosbag.gt_topic=/nope", "--set rosbag.imu_topic=/tf_static",
+                                   "--set rosbag.frobnicate=1", "--poses x.tum"}) {
+        const ExeResult e = runExe("--rosbag " + bag + " " + args + " --out " + dir + "/x.rawlog", dir);
+        EXPECT_NE(e.code, 0) << args;
+        EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << args << ": " << e.err;
+    }
+}
+#endif

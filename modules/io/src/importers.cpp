@@ -6,6 +6,8 @@
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
 
+#include "extras_writer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -92,10 +94,13 @@ std::vector<std::optional<SE3d>> matchPoses(const Trajectory& traj,
 ImportResult writeRawlog(const std::vector<std::string>& files, CloudFormat format,
                          const std::vector<double>& times,
                          const std::vector<std::optional<SE3d>>& poses,
-                         const std::string& out_rawlog, const ProgressFn& progress) {
+                         const std::string& out_rawlog, const ProgressFn& progress,
+                         const ImportExtras& extras) {
     ImportResult r;
     RawlogWriter w(out_rawlog);
+    detail::ExtrasWriter ex(extras, r);
     for (size_t i = 0; i < files.size(); ++i) {
+        ex.flushUntil(w, times[i]);
         size_t dropped = 0;
         PointCloud c = loadPointCloud(files[i], format, &dropped);
         Scan s;
@@ -115,6 +120,7 @@ ImportResult writeRawlog(const std::vector<std::string>& files, CloudFormat form
         }
         if (progress) progress(i + 1, files.size());
     }
+    ex.flushAll(w);
     w.close();
     return r;
 }
@@ -129,7 +135,7 @@ void checkCount(size_t n_times, size_t n_scans, const std::string& what) {
 
 ImportResult importKitti(const std::string& dir, const std::string& poses_tum,
                          const std::string& times_file, const std::string& out_rawlog,
-                         const ProgressFn& progress) {
+                         const ProgressFn& progress, const ImportExtras& extras) {
     const auto files = listFiles((fs::path(dir) / "velodyne").string(), ".bin");
     const std::string tpath =
         times_file.empty() ? (fs::path(dir) / "times.txt").string() : times_file;
@@ -147,12 +153,12 @@ ImportResult importKitti(const std::string& dir, const std::string& poses_tum,
     }
     std::vector<std::optional<SE3d>> poses;
     if (traj) poses = matchPoses(*traj, times, poses_tum);
-    return writeRawlog(files, CloudFormat::KittiBin, times, poses, out_rawlog, progress);
+    return writeRawlog(files, CloudFormat::KittiBin, times, poses, out_rawlog, progress, extras);
 }
 
 ImportResult importPcdFolder(const std::string& dir, const std::string& poses_tum,
                              const std::string& times_file, const std::string& out_rawlog,
-                             const ProgressFn& progress) {
+                             const ProgressFn& progress, const ImportExtras& extras) {
     const auto files = listFiles(dir, ".pcd");
     std::optional<Trajectory> traj;
     if (!poses_tum.empty()) traj = loadTum(poses_tum);
@@ -175,7 +181,7 @@ ImportResult importPcdFolder(const std::string& dir, const std::string& poses_tu
     }
     std::vector<std::optional<SE3d>> poses;
     if (traj) poses = matchPoses(*traj, times, poses_tum);
-    return writeRawlog(files, CloudFormat::PcdBinary, times, poses, out_rawlog, progress);
+    return writeRawlog(files, CloudFormat::PcdBinary, times, poses, out_rawlog, progress, extras);
 }
 
 }  // namespace superloc::io

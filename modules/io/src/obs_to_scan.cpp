@@ -8,6 +8,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <superloc/core/mrpt_conversions.h>
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -38,7 +39,33 @@ void copyPointsMap(const mrpt::maps::CPointsMap& m, Scan& scan, size_t& invalid)
     }
 }
 
+/// A Velodyne observation without packets whose point_cloud was stored with per-point
+/// timestamps (RawlogWriter::writeTimedScan): taken as it is, times relative to the observation.
+void fromStoredCloud(const mrpt::obs::CObservationVelodyneScan& in, Scan& scan, size_t& invalid) {
+    const auto& pc = in.point_cloud;
+    const bool has_t = pc.timestamp.size() == pc.size();
+    const bool has_i = pc.intensity.size() == pc.size();
+    scan.points.reserve(pc.size());
+    scan.intensity.reserve(pc.size());
+    if (has_t) scan.rel_time.reserve(pc.size());
+    for (size_t i = 0; i < pc.size(); ++i) {
+        if (!finite3(pc.x[i], pc.y[i], pc.z[i])) {
+            ++invalid;
+            continue;
+        }
+        scan.points.emplace_back(pc.x[i], pc.y[i], pc.z[i]);
+        scan.intensity.push_back(has_i ? pc.intensity[i] / 255.0f : 0.0f);
+        if (has_t)
+            scan.rel_time.push_back(static_cast<float>(
+                std::chrono::duration<double>(pc.timestamp[i] - in.timestamp).count()));
+    }
+}
+
 void fromVelodyne(const mrpt::obs::CObservationVelodyneScan& in, Scan& scan, size_t& invalid) {
+    if (in.scan_packets.empty() && in.point_cloud.size() > 0) {
+        fromStoredCloud(in, scan, invalid);
+        return;
+    }
     mrpt::obs::CObservationVelodyneScan obs(in);  // generatePointCloud() fills a member
     mrpt::obs::CObservationVelodyneScan::TGeneratePointCloudParameters gp;
     gp.generatePerPointTimestamp = true;

@@ -4,10 +4,14 @@
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CObservationVelodyneScan.h>
 #include <mrpt/serialization/CArchive.h>
 #include <superloc/core/mrpt_conversions.h>
 #include <superloc/io/rawlog.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace superloc::io {
@@ -59,6 +63,38 @@ void RawlogWriter::writeScan(const Scan& scan, const std::string& label) {
     pts->mark_as_modified();
     obs->pointcloud = pts;
     write(*obs);
+}
+
+void RawlogWriter::writeTimedScan(const Scan& scan, const std::string& label,
+                                  float intensity_max) {
+    if (scan.rel_time.size() != scan.points.size())
+        throw std::runtime_error(impl_->path + ": writeTimedScan: " +
+                                 std::to_string(scan.rel_time.size()) + " point times for " +
+                                 std::to_string(scan.points.size()) + " points");
+    mrpt::obs::CObservationVelodyneScan obs;
+    obs.timestamp = mrpt::Clock::fromDouble(scan.t);
+    obs.originalReceivedTimestamp = obs.timestamp;
+    obs.sensorLabel = label;
+    obs.sensorPose = toMrpt(scan.T_imu_lidar);
+    auto& pc = obs.point_cloud;
+    const size_t n = scan.points.size();
+    const bool has_i = scan.intensity.size() == n;
+    pc.x.resize(n);
+    pc.y.resize(n);
+    pc.z.resize(n);
+    pc.intensity.resize(n);
+    pc.timestamp.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        pc.x[i] = scan.points[i].x();
+        pc.y[i] = scan.points[i].y();
+        pc.z[i] = scan.points[i].z();
+        const float v = has_i && intensity_max > 0 ? scan.intensity[i] / intensity_max : 0.0f;
+        pc.intensity[i] = static_cast<uint8_t>(std::lround(255.0f * std::clamp(v, 0.0f, 1.0f)));
+        pc.timestamp[i] =
+            obs.timestamp + std::chrono::round<mrpt::Clock::duration>(
+                                std::chrono::duration<double>(double(scan.rel_time[i])));
+    }
+    write(obs);
 }
 
 void RawlogWriter::writeImu(const ImuSample& imu, const std::string& label) {

@@ -87,7 +87,9 @@ struct RawlogStats {
 ///  - CObservationPointCloud: from the azimuth (RawlogParams scan_period, rotation_sense,
 ///    start_azimuth_deg) for a sweep that *ends* at t: rel_time in [-scan_period, 0).
 ///  - CObservationVelodyneScan: MRPT's per-point timestamps; MRPT stamps the observation at the
-///    *first* firing, so rel_time is in [0, sweep) (>= 0).
+///    *first* firing, so rel_time is in [0, sweep) (>= 0). Without raw packets, its stored
+///    `point_cloud` is used as it is (RawlogWriter::writeTimedScan: rel_time = point time -
+///    observation time, any sign).
 ///  - CObservationRotatingScan (VLP-16 / HDL-32E range images as MRPT 2.5.8's fromVelodyne()
 ///    writes them, or 1-row 2-D scans): from the column, also >= 0. Other models carry no beam
 ///    angles in MRPT 2.5.8 and are skipped (counted in unknown_observations).
@@ -124,6 +126,14 @@ class RawlogWriter {
 
     /// As a CObservationPointCloud holding a CPointsMapXYZI; sensorPose = scan.T_imu_lidar.
     void writeScan(const Scan& scan, const std::string& label = "lidar");
+    /// A scan with measured per-point time (scan.rel_time, one per point): as a
+    /// CObservationVelodyneScan without packets whose `point_cloud` holds x, y, z, intensity
+    /// (a byte: 255 * clamp(intensity / intensity_max, 0, 1)) and each point's absolute
+    /// timestamp t + rel_time (MRPT clock, 100 ns). CPointsMapXYZI has no time field; this is
+    /// MRPT 2.5.8's one point-cloud observation that keeps per-point time (doc/io.md).
+    /// Throws when rel_time does not have one entry per point.
+    void writeTimedScan(const Scan& scan, const std::string& label = "lidar",
+                        float intensity_max = 255.0f);
     /// As a CObservationIMU (IMU_X_ACC.., IMU_WX..).
     void writeImu(const ImuSample& imu, const std::string& label = "imu");
     /// As a CObservationRobotPose (pose + covariance, identity*1e-6 when none) with `label`.
