@@ -3,7 +3,8 @@
 set -euo pipefail
 PKGS=(cmake ninja-build g++ pkg-config
       libmrpt-dev mrpt-apps libceres-dev libpcl-dev libeigen3-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev)
+      libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev
+      nlohmann-json3-dev python3)
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 missing=()
