@@ -20,7 +20,8 @@ TEST(Json, NonFiniteNumbersBecomeNullAndAreReported) {
     volatile double far = 1e300;
     j["ate"] = std::sqrt(far * far);
     const auto replaced = io::replaceNonFinite(j);
-    EXPECT_EQ(replaced, (std::vector<std::string>{"/inf", "/nested/nan", "/nested/list/1", "/ate"}));
+    EXPECT_EQ(replaced,
+              (std::vector<std::string>{"/inf", "/nested/nan", "/nested/list/1", "/ate"}));
     EXPECT_TRUE(j["inf"].is_null());
     EXPECT_TRUE(j["nested"]["list"][1].is_null());
     EXPECT_DOUBLE_EQ(j["nested"]["list"][2].get<double>(), 2.0);
