@@ -26,9 +26,18 @@ function(superloc_module name)
   file(GLOB srcs CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/*.cpp)
   add_library(superloc_${name} STATIC ${srcs})
   add_library(superloc::${name} ALIAS superloc_${name})
-  target_include_directories(superloc_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_include_directories(superloc_${name} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(superloc_${name} PUBLIC ${A_DEPS} PRIVATE ${A_PRIVATE_DEPS})
   superloc_target_options(superloc_${name})
+  # Installed as lib/libsuperloc_<name>.a + include/superloc/<name>/, exported as superloc::<name>
+  # (cmake/superloc-install.cmake writes the package configuration).
+  set_target_properties(superloc_${name} PROPERTIES EXPORT_NAME ${name})
+  install(TARGETS superloc_${name} EXPORT superloc-targets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+    COMPONENT dev)
 endfunction()
 
 # superloc_app(<exe-name> <source> [DEPS <libs>...])
@@ -39,6 +48,7 @@ function(superloc_app name src)
   # All apps side by side in build/bin: superloc-bench runs its siblings.
   set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/bin)
   superloc_target_options(${name})
+  install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT apps)
 endfunction()
 
 # superloc_test(<module> [DEPS <libs>...]): tests/<module>/test_*.cpp -> test_<module>.

@@ -43,7 +43,10 @@ for m in icp superloc; do
       --json "$OUT/corridor-$m/eval.json" > "$OUT/corridor-$m/eval.txt"
 done
 set +x
-ate() { grep -A3 '"trans_m"' "$1" | awk -F': ' '/"rmse"/ {gsub(/,/, "", $2); printf "%.3f", $2; exit}'; }
+ate() {  # ATE translation RMSE [m] of a superloc-eval --json file
+  python3 -c 'import json, sys; v = json.load(open(sys.argv[1]))["ate"]["trans_m"]["rmse"]
+print("n/a" if v is None else "%.3f" % v)' "$1"
+}
 echo
 echo "kitti00-mini (perturbed start), ATE RMSE [m]: $(ate "$OUT/eval.json")"
 echo "featureless corridor, ATE RMSE [m]: icp $(ate "$OUT/corridor-icp/eval.json"), superloc $(ate "$OUT/corridor-superloc/eval.json")"

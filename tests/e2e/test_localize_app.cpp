@@ -2,6 +2,7 @@
 // own scans at the ground-truth poses (0.2 m voxels), from the first GT pose and from a
 // perturbed start; plus the command-line contract (help, dump-config, errors, outputs).
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/core/voxel.h>
@@ -11,6 +12,7 @@
 #include <superloc/localization/localize_app.h>
 #include <superloc_testing/testing.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -82,10 +84,13 @@ TEST_F(KittiFixture, EveryScanLocalizedFromFirstGtPose) {
         << header;
     EXPECT_GT(io::loadPointCloud(out + "/localized_map.pcd").size(), 10000u);
     std::ifstream js(out + "/summary.json");
-    std::stringstream text;
-    text << js.rdbuf();
-    EXPECT_NE(text.str().find("\"method\": \"icp\""), std::string::npos);
-    EXPECT_NE(text.str().find("\"ms_per_frame_p95\""), std::string::npos);
+    const auto summary = nlohmann::json::parse(js);
+    EXPECT_EQ(summary["method"], "icp");
+    EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
+    EXPECT_EQ(summary["gt_frames_matched"].get<size_t>(), 16u);
+    EXPECT_NEAR(summary["ate_rmse_vs_rawlog_gt"].get<double>(), s.ate_rmse, 1e-9);
+    EXPECT_NEAR(summary["ms_per_frame_p95"].get<double>(), s.ms_p95, 1e-9);
+    EXPECT_EQ(summary["frames_flagged_per_axis"].size(), 6u);
     std::cout << "kitti00-mini from GT start: ATE " << s.ate_rmse << " m, median " << s.ms_median
               << " ms\n";
 }
@@ -100,6 +105,22 @@ TEST_F(KittiFixture, EveryScanLocalizedFromPerturbedStart) {
     EXPECT_EQ(app.summary().frames, 16u);
     EXPECT_LT(app.summary().ate_rmse, 0.05) << "ATE RMSE [m]";
     std::cout << "kitti00-mini from perturbed start: ATE " << app.summary().ate_rmse << " m\n";
+}
+
+TEST_F(KittiFixture, FarInitialPoseWritesValidJson) {
+    // 1e300 m away from the map: nothing associates, the ATE against the rawlog's GT overflows to
+    // inf, and summary.json must still be JSON (null there, with a warning).
+    LocalizeApp app;
+    const std::string out = dir + "/out-far";
+    ASSERT_EQ(init(app, {"--out", out, "--initial-pose", "1e300 1e300 0 0 0 0 1"}),
+              LocalizeApp::Action::Run);
+    app.run();
+    EXPECT_EQ(app.summary().frames, 16u);
+    EXPECT_FALSE(std::isfinite(app.summary().ate_rmse));
+    std::ifstream js(out + "/summary.json");
+    const auto summary = nlohmann::json::parse(js);  // throws on inf/nan
+    EXPECT_TRUE(summary["ate_rmse_vs_rawlog_gt"].is_null());
+    EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
 }
 
 TEST_F(KittiFixture, CommandLineContract) {

@@ -1,6 +1,7 @@
 // superloc-bench's runner end to end with stand-in tools (shell scripts honouring the DESIGN §9
 // command lines), so the suite logic is tested without the real simulator and localizer.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <superloc/eval/bench_app.h>
 #include <superloc/eval/process.h>
 #include <superloc_testing/testing.h>
@@ -100,7 +101,13 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     EXPECT_NE(md.find("| Method | plane |"), std::string::npos) << md;
     EXPECT_NE(md.find("| good | **0.00** |"), std::string::npos) << md;
     EXPECT_NE(md.find("| stop | 0.00 † |"), std::string::npos) << md;
-    EXPECT_NE(slurp(d + "/out/results.json").find("\"method\": \"lift\""), std::string::npos);
+    const auto json = nlohmann::json::parse(slurp(d + "/out/results.json"));
+    ASSERT_EQ(json["runs"].size(), app.runs.size());
+    const auto& lift_json = json["runs"][1];
+    EXPECT_EQ(lift_json["method"], "lift");
+    EXPECT_NEAR(lift_json["metrics"]["ate"]["trans_m"]["rmse"].get<double>(), 0.2, 1e-9);
+    EXPECT_NEAR(lift_json["metrics"]["map"]["outlier_percent"].get<double>(), 100.0, 1e-9);
+    EXPECT_EQ(json["runs"][2]["status"], "exit 3");
     EXPECT_NE(md.find("![plane_good_top.svg](plane_good_top.svg)"), std::string::npos) << md;
     EXPECT_NE(md.find("![plane_f1_rot.svg](plane_f1_rot.svg)"), std::string::npos) << md;
     for (const char* f :

@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <superloc/core/se3.h>
 #include <superloc/eval/frame_log.h>
-#include <superloc/eval/json_writer.h>
+#include <superloc/eval/evaluation.h>
+#include <superloc/io/json_file.h>
 #include <superloc/eval/report_plots.h>
 #include <superloc/eval/svg_plot.h>
 #include <superloc_testing/testing.h>
@@ -13,13 +15,32 @@
 using namespace superloc;
 using namespace superloc::eval;
 
-TEST(JsonWriter, NestedPrettyOutput) {
-    JsonWriter j;
-    j.beginObject().field("a", 1).field("s", "q\"\n").key("v").array({1.5, std::nan("")});
-    j.key("o").beginObject().endObject().endObject();
-    EXPECT_EQ(j.str(),
-              "{\n  \"a\": 1,\n  \"s\": \"q\\\"\\n\",\n  \"v\": [\n    1.5,\n    null\n  ],\n"
-              "  \"o\": {}\n}");
+TEST(EvalJson, EveryMetricParsesBackNonFiniteAsNull) {
+    EvalResult r;
+    r.est_frames = r.gt_frames = r.matched_frames = 3;
+    r.ate.trans.n = 3;
+    r.ate.trans.rmse = 0.25;
+    r.ate.rot.rmse = std::numeric_limits<double>::infinity();  // e.g. a 1e300 m estimate
+    r.rp.area = 0.5;
+    r.rp.curve.resize(2);
+    r.rp.curve[0].tau = 0.1;
+    r.rp.curve[0].f1 = 0.2;
+    r.rp.curve[1].tau = 0.5;
+    r.rp.curve[1].f1 = 0.9;
+    r.timing = TimingStats{};
+    r.timing->median_ms = 12.5;
+    r.degenerate_frame_percent = std::nan("");
+    const auto j = nlohmann::json::parse(io::toJsonText(toJson(r), "test"));
+    EXPECT_EQ(j["matched_frames"].get<int>(), 3);
+    EXPECT_NEAR(j["ate"]["trans_m"]["rmse"].get<double>(), 0.25, 1e-12);
+    EXPECT_TRUE(j["ate"]["rot_rad"]["rmse"].is_null());
+    EXPECT_NEAR(j["Rp"].get<double>(), 0.5, 1e-12);
+    ASSERT_EQ(j["f1_trans"]["tau"].size(), 2u);
+    EXPECT_NEAR(j["f1_trans"]["f1"][1].get<double>(), 0.9, 1e-12);
+    EXPECT_NEAR(j["timing"]["median_ms"].get<double>(), 12.5, 1e-12);
+    EXPECT_TRUE(j["degenerate_frame_percent"].is_null());
+    EXPECT_FALSE(j.contains("map"));
+    EXPECT_FALSE(nlohmann::json::parse(io::toJsonText(toJson(r, false))).contains("f1_trans"));
 }
 
 TEST(FrameLog, ParsesDegenerateLetters) {

@@ -114,3 +114,39 @@ TEST(Fuzz, CorruptRawlogsAndTumNeverCrash) {
     saveTum(dir + "/t.tum", t);
     fuzz(dir + "/t.tum", 60, 13, [](const std::string& p) { loadTum(p); });
 }
+
+TEST(Fuzz, PcdDataThatPclReadsAsHeaderIsRefused) {
+    // Found by tests/fuzz/fuzz_pcd.cpp: PCL 1.13 keeps parsing header lines after DATA, so binary
+    // data beginning with "COLUMNS ..." re-declared the fields and PCL's reader segfaulted.
+    const auto dir = superloc::testing::freshDir("fuzz_pcd_columns");
+    const std::string header =
+        "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z intensity\n"
+        "SIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 40\nHEIGHT 1\n"
+        "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS 40\nDATA binary\n";
+    for (const std::string lead :
+         {"COLUMNS \x87\x97 \x03\n", "\n#\nSIZE 8\n", "DATA ascii\n", " \tWIDTH 1\n"}) {
+        std::string data = lead;
+        data.resize(40 * 16 + 16, '\x01');
+        const std::string path = dir + "/columns.pcd";
+        std::ofstream(path, std::ios::binary) << header << data;
+        try {
+            loadPointCloud(path);
+            ADD_FAILURE() << "loaded data beginning with " << lead;
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find("begins like a header line"), std::string::npos)
+                << e.what();
+        }
+    }
+    // Binary data that merely starts with '#' or a newline still loads.
+    for (const std::string lead : {"#", "\n", " 1.5"}) {
+        std::string data = lead;
+        data.resize(40 * 16, '\0');
+        const std::string path = dir + "/ok.pcd";
+        std::ofstream(path, std::ios::binary) << header << data;
+        try {
+            EXPECT_EQ(loadPointCloud(path).size(), 40u) << lead;
+        } catch (const std::exception& e) {
+            ADD_FAILURE() << "lead '" << lead << "': " << e.what();
+        }
+    }
+}

@@ -1,6 +1,8 @@
 #include <superloc/core/se3.h>
 #include <superloc/eval/bench_report.h>
-#include <superloc/eval/json_writer.h>
+#include <superloc/io/json_file.h>
+
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -150,25 +152,16 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
 }
 
 std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path) {
-    JsonWriter j;
-    j.beginObject().field("suite", suite_path).key("runs").beginArray();
-    for (const auto& r : runs) {
-        j.beginObject()
-            .field("sequence", r.sequence)
-            .field("method", r.method)
-            .field("status", r.status);
-        j.field("wall_s", r.wall_s)
-            .field("peak_rss_mb", r.peak_rss_mb)
-            .field("gt_length_m", r.gt_length_m);
-        j.key("metrics");
-        if (r.result)
-            writeJson(j, *r.result, false);
-        else
-            j.null();
-        j.endObject();
-    }
-    j.endArray().endObject();
-    return j.str() + "\n";
+    io::Json list = io::Json::array();
+    for (const auto& r : runs)
+        list.push_back({{"sequence", r.sequence},
+                        {"method", r.method},
+                        {"status", r.status},
+                        {"wall_s", r.wall_s},
+                        {"peak_rss_mb", r.peak_rss_mb},
+                        {"gt_length_m", r.gt_length_m},
+                        {"metrics", r.result ? toJson(*r.result, false) : io::Json(nullptr)}});
+    return io::toJsonText({{"suite", suite_path}, {"runs", list}}, "results.json");
 }
 
 }  // namespace superloc::eval

@@ -5,10 +5,12 @@
 #include <superloc/eval/eval_app.h>
 #include <superloc/eval/evaluation.h>
 #include <superloc/eval/report_plots.h>
+#include <superloc/io/json_file.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -111,11 +113,7 @@ int EvalApp::run(std::ostream& out) {
         evaluate(est, gt, params, maps ? &est_map : nullptr, maps ? &gt_map : nullptr,
                  frames_path.empty() ? nullptr : &frames);
     out << summaryMarkdown(r);
-    if (!json_path.empty()) {
-        JsonWriter j;
-        writeJson(j, r);
-        writeTextFile(json_path, j.str() + "\n");
-    }
+    if (!json_path.empty()) io::saveJson(json_path, toJson(r));
     if (!plots_dir.empty()) {
         std::filesystem::create_directories(plots_dir);
         const auto p = [&](const std::string& f) {

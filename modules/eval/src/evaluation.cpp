@@ -1,5 +1,7 @@
 #include <superloc/eval/evaluation.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 
@@ -37,20 +39,17 @@ EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParam
 }
 
 namespace {
-void stats(JsonWriter& j, const std::string& name, const ErrorStats& s) {
-    j.key(name).beginObject().field("n", s.n).field("rmse", s.rmse).field("mean", s.mean);
-    j.field("median", s.median).field("max", s.max).endObject();
+io::Json stats(const ErrorStats& s) {
+    return {{"n", s.n}, {"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"max", s.max}};
 }
-void timing(JsonWriter& j, const std::string& name, const TimingStats& t) {
-    j.key(name).beginObject().field("frames", t.frames).field("mean_ms", t.mean_ms);
-    j.field("median_ms", t.median_ms).field("p95_ms", t.p95_ms).field("max_ms", t.max_ms);
-    j.field("fps", t.fps).endObject();
+io::Json timing(const TimingStats& t) {
+    return {{"frames", t.frames}, {"mean_ms", t.mean_ms}, {"median_ms", t.median_ms},
+            {"p95_ms", t.p95_ms}, {"max_ms", t.max_ms},   {"fps", t.fps}};
 }
-void curve(JsonWriter& j, const std::string& name, const RobustnessCurve& c) {
+io::Json curve(const RobustnessCurve& c) {
     std::vector<double> tau, f1;
     for (const auto& p : c.curve) tau.push_back(p.tau), f1.push_back(p.f1);
-    j.key(name).beginObject().field("area", c.area);
-    j.key("tau").array(tau).key("f1").array(f1).endObject();
+    return {{"area", c.area}, {"tau", tau}, {"f1", f1}};
 }
 std::string fmt(const char* f, double v) {
     char buf[64];
@@ -59,41 +58,33 @@ std::string fmt(const char* f, double v) {
 }
 }  // namespace
 
-void writeJson(JsonWriter& j, const EvalResult& r, bool with_curves) {
-    j.beginObject();
-    j.field("est_frames", r.est_frames).field("gt_frames", r.gt_frames);
-    j.field("matched_frames", r.matched_frames).field("aligned", r.aligned);
-    j.key("ate").beginObject();
-    stats(j, "trans_m", r.ate.trans);
-    stats(j, "rot_rad", r.ate.rot);
-    j.endObject();
-    j.key("rpe").beginObject();
-    stats(j, "trans_m", r.rpe.trans);
-    stats(j, "rot_rad", r.rpe.rot);
-    j.endObject();
-    j.field("Rp", r.rp.area).field("Rr", r.rr.area);
+io::Json toJson(const EvalResult& r, bool with_curves) {
+    io::Json j = {{"est_frames", r.est_frames},
+                        {"gt_frames", r.gt_frames},
+                        {"matched_frames", r.matched_frames},
+                        {"aligned", r.aligned},
+                        {"ate", {{"trans_m", stats(r.ate.trans)}, {"rot_rad", stats(r.ate.rot)}}},
+                        {"rpe", {{"trans_m", stats(r.rpe.trans)}, {"rot_rad", stats(r.rpe.rot)}}},
+                        {"Rp", r.rp.area},
+                        {"Rr", r.rr.area}};
     if (with_curves) {
-        curve(j, "f1_trans", r.rp);
-        curve(j, "f1_rot", r.rr);
+        j["f1_trans"] = curve(r.rp);
+        j["f1_rot"] = curve(r.rr);
     }
-    if (r.map) {
-        j.key("map")
-            .beginObject()
-            .field("points", r.map->points)
-            .field("gt_points", r.map->gt_points);
-        j.field("outlier_percent", r.map->outlier_percent)
-            .field("median_dist_m", r.map->median_dist);
-        j.field("mean_dist_m", r.map->mean_dist).endObject();
-    }
-    if (r.timing) timing(j, "timing", *r.timing);
+    if (r.map)
+        j["map"] = {{"points", r.map->points},
+                    {"gt_points", r.map->gt_points},
+                    {"outlier_percent", r.map->outlier_percent},
+                    {"median_dist_m", r.map->median_dist},
+                    {"mean_dist_m", r.map->mean_dist}};
+    if (r.timing) j["timing"] = timing(*r.timing);
     if (!r.stages.empty()) {
-        j.key("stages").beginObject();
-        for (const auto& [name, t] : r.stages) timing(j, name, t);
-        j.endObject();
+        io::Json stages = io::Json::object();
+        for (const auto& [name, t] : r.stages) stages[name] = timing(t);
+        j["stages"] = stages;
     }
-    if (r.degenerate_frame_percent)
-        j.field("degenerate_frame_percent", *r.degenerate_frame_percent);
-    j.endObject();
+    if (r.degenerate_frame_percent) j["degenerate_frame_percent"] = *r.degenerate_frame_percent;
+    return j;
 }
 
 std::string summaryMarkdown(const EvalResult& r) {

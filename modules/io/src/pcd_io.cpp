@@ -130,9 +130,25 @@ void checkHeader(const std::string& path) {
     const std::string data = h["DATA"][0];
     if (data != "ascii" && data != "binary" && data != "binary_compressed")
         throw bad("unknown DATA '" + data + "'");
+    const auto header_end = static_cast<long long>(in.tellg());
+    // PCL's header parser does not stop at DATA: it goes on reading lines, skipping empty and '#'
+    // ones, and takes a line that starts with a header keyword ("COLUMNS", "SIZE", ...) as part of
+    // the header, which changes the fields after they were laid out and crashes its reader
+    // (found by tests/fuzz/fuzz_pcd.cpp). Refuse data that PCL would read as header.
+    for (std::string next; std::getline(in, next);) {
+        const size_t b = next.find_first_not_of("\t\r ");  // PCL trims each line
+        if (b == std::string::npos || next[b] == '#') continue;
+        static const char* keywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE",
+                                         "COUNT",   "WIDTH",  "HEIGHT",  "VIEWPOINT",
+                                         "POINTS",  "DATA"};
+        for (const char* k : keywords)
+            if (next.compare(b, std::strlen(k), k) == 0)
+                throw bad(std::string("data after DATA begins like a header line (") + k + ")");
+        break;
+    }
+    in.clear();
     // PCL allocates WIDTH x HEIGHT points before reading: check the file can hold them (binary:
     // exactly; ASCII: at least "v " per value) so a corrupt count cannot claim gigabytes.
-    const auto header_end = static_cast<long long>(in.tellg());
     const auto size = static_cast<long long>(std::filesystem::file_size(path));
     const long long need = data == "binary"  ? w * ht * step
                            : data == "ascii" ? w * ht * static_cast<long long>(nf) * 2 - 1

@@ -1,8 +1,10 @@
+#include <superloc/io/json_file.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 #include <superloc/localization/run_outputs.h>
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -94,40 +96,50 @@ void RunOutputs::addFrame(const FrameReport& r, const SE3d& T, const std::vector
     }
 }
 
-void RunOutputs::finish(const RunSummary& s) {
-    const std::string json = (std::filesystem::path(dir_) / "summary.json").string();
-    std::ofstream f(json);
-    if (!f) throw std::runtime_error(json + ": cannot open for writing");
+io::Json summaryJson(const RunSummary& s) {
     const auto& m = s.stage_median;
-    f << "{\n"
-      << "  \"method\": \"" << s.method << "\",\n"
-      << "  \"frames\": " << s.frames << ",\n"
-      << "  \"frames_diverged\": " << s.diverged << ",\n"
-      << "  \"frames_converged\": " << s.converged << ",\n"
-      << "  \"frames_with_imu\": " << s.used_imu << ",\n"
-      << "  \"frames_with_prior\": " << s.with_prior << ",\n"
-      << "  \"frames_recovered\": " << s.recovered << ",\n"
-      << "  \"frames_flagged\": " << s.flagged << ",\n"
-      << "  \"frames_flagged_without_prior\": " << s.flagged_without_prior << ",\n"
-      << "  \"frames_flagged_per_axis\": {\"x\": " << s.flagged_axis[0] << ", \"y\": " << s.flagged_axis[1]
-      << ", \"z\": " << s.flagged_axis[2] << ", \"roll\": " << s.flagged_axis[3]
-      << ", \"pitch\": " << s.flagged_axis[4] << ", \"yaw\": " << s.flagged_axis[5] << "},\n"
-      << "  \"ms_per_frame_median\": " << s.ms_median << ",\n"
-      << "  \"ms_per_frame_p95\": " << s.ms_p95 << ",\n"
-      << "  \"ms_per_frame_mean\": " << s.ms_mean << ",\n"
-      << "  \"cpu_ms_per_frame_median\": " << s.cpu_ms_median << ",\n"
-      << "  \"fps\": " << s.fps << ",\n"
-      << "  \"stage_ms_median\": {\"predict\": " << m.predict << ", \"preprocess\": " << m.preprocess
-      << ", \"associate\": " << m.associate << ", \"risk\": " << m.risk << ", \"solve\": " << m.solve
-      << ", \"total\": " << m.total << "},\n"
-      << "  \"map_points\": " << s.map_points << ",\n"
-      << "  \"map_prepare_s\": " << s.map_prepare_s << ",\n"
-      << "  \"gt_frames_matched\": " << s.gt_matched << ",\n"
-      << "  \"ate_rmse_vs_rawlog_gt\": " << (s.ate_rmse < 0 ? std::string("null") : std::to_string(s.ate_rmse))
-      << ",\n"
-      << "  \"ate_max_vs_rawlog_gt\": " << (s.ate_max < 0 ? std::string("null") : std::to_string(s.ate_max))
-      << "\n}\n";
-    if (!f) throw std::runtime_error(json + ": write failed");
+    const auto& fa = s.flagged_axis;
+    // -1 marks "no ground truth in the rawlog": null.
+    const auto orNull = [](double v) { return v < 0 ? io::Json(nullptr) : io::Json(v); };
+    return {{"method", s.method},
+            {"frames", s.frames},
+            {"frames_diverged", s.diverged},
+            {"frames_converged", s.converged},
+            {"frames_with_imu", s.used_imu},
+            {"frames_with_prior", s.with_prior},
+            {"frames_recovered", s.recovered},
+            {"frames_flagged", s.flagged},
+            {"frames_flagged_without_prior", s.flagged_without_prior},
+            {"frames_flagged_per_axis",
+             {{"x", fa[0]},
+              {"y", fa[1]},
+              {"z", fa[2]},
+              {"roll", fa[3]},
+              {"pitch", fa[4]},
+              {"yaw", fa[5]}}},
+            {"ms_per_frame_median", s.ms_median},
+            {"ms_per_frame_p95", s.ms_p95},
+            {"ms_per_frame_mean", s.ms_mean},
+            {"cpu_ms_per_frame_median", s.cpu_ms_median},
+            {"fps", s.fps},
+            {"stage_ms_median",
+             {{"predict", m.predict},
+              {"preprocess", m.preprocess},
+              {"associate", m.associate},
+              {"risk", m.risk},
+              {"solve", m.solve},
+              {"total", m.total}}},
+            {"map_points", s.map_points},
+            {"map_prepare_s", s.map_prepare_s},
+            {"gt_frames_matched", s.gt_matched},
+            {"ate_rmse_vs_rawlog_gt", orNull(s.ate_rmse)},
+            {"ate_max_vs_rawlog_gt", orNull(s.ate_max)}};
+}
+
+void RunOutputs::finish(const RunSummary& s) {
+    // Non-finite values (e.g. the ATE of a run started 1e300 m away) are written as null, each
+    // with a warning.
+    io::saveJson((std::filesystem::path(dir_) / "summary.json").string(), summaryJson(s));
     PointCloud cloud;
     cloud.points = map_;
     io::savePointCloud((std::filesystem::path(dir_) / "localized_map.pcd").string(), cloud);

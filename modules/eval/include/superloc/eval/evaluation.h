@@ -4,11 +4,11 @@
 
 #include <superloc/eval/eval_params.h>
 #include <superloc/eval/frame_log.h>
-#include <superloc/eval/json_writer.h>
 #include <superloc/eval/map_metrics.h>
 #include <superloc/eval/robustness.h>
 #include <superloc/eval/timing.h>
 #include <superloc/eval/trajectory_metrics.h>
+#include <superloc/io/json_file.h>
 
 #include <map>
 #include <optional>
@@ -33,8 +33,9 @@ EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParam
                     const PointCloud* est_map = nullptr, const PointCloud* gt_map = nullptr,
                     const FrameLog* frames = nullptr);
 
-/// Writes the result as one JSON object (curves included when `with_curves`).
-void writeJson(JsonWriter& json, const EvalResult& r, bool with_curves = true);
+/// The result as one JSON object (F1 curves included when `with_curves`); non-finite numbers
+/// stay as they are (io::toJsonText / io::saveJson turn them into null).
+io::Json toJson(const EvalResult& r, bool with_curves = true);
 
 /// A human-readable Markdown summary (a two-column metric table).
 std::string summaryMarkdown(const EvalResult& r);

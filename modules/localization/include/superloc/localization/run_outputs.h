@@ -7,6 +7,7 @@
 
 #include <superloc/core/types.h>
 #include <superloc/core/voxel.h>
+#include <superloc/io/json_file.h>
 #include <superloc/localization/frame_report.h>
 
 #include <fstream>
@@ -45,6 +46,10 @@ struct RunSummary {
     size_t gt_matched = 0;
     double ate_rmse = -1, ate_max = -1;  ///< [m], -1 when no ground truth
 };
+
+/// summary.json's content (non-finite numbers left as they are: io::saveJson writes them as
+/// null with a warning).
+io::Json summaryJson(const RunSummary& s);
 
 /// Median / p95 / mean of a set of values (0 when empty).
 double percentile(std::vector<double> v, double q);
