@@ -12,14 +12,11 @@ using features::FeatureType;
 
 namespace {
 void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
-               const map::PriorMap& map, const AssociationParams& p,
-               std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
-               std::vector<uint32_t>* feature_of) {
-    out.clear();
-    stats = {};
-    if (feature_of) feature_of->clear();
-    if (map.size() == 0) return;
+                      const map::PriorMap& map, const AssociationParams& p,
+                      std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+                      std::vector<uint32_t>* feature_of) {
     // Nearest map point (kd-tree) and its precomputed neighbourhood geometry.
+    if (map.size() == 0) return;
     const float max_d2 = static_cast<float>(p.max_dist * p.max_dist);
     const Mat3d R = T_map_body.linear();
     const Vec3d t = T_map_body.translation();
@@ -70,15 +67,11 @@ void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body
     }
 }
 
-
 void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                      const map::PriorMap& map, const AssociationParams& p,
                      std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
                      std::vector<uint32_t>* feature_of) {
     // The voxel containing the point at the level asked for (one hash probe) and its statistics.
-    out.clear();
-    stats = {};
-    if (feature_of) feature_of->clear();
     const map::VoxelMap& vm = map.voxels();
     if (vm.levels() == 0) return;
     const int level = std::clamp(p.level, 0, vm.levels() - 1);
@@ -131,6 +124,9 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                const AssociationParams& p, std::vector<fusion::ScanCorrespondence>& out,
                AssociationStats& stats, std::vector<uint32_t>* feature_of) {
+    out.clear();
+    stats = {};
+    if (feature_of) feature_of->clear();
     if (p.voxel)
         associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of);
     else
