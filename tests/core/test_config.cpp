@@ -61,3 +61,19 @@ TEST(Config, OverrideSyntax) {
     EXPECT_THROW(applyOverride(c, "voxel=2"), ConfigError);
     EXPECT_THROW(applyOverride(c, "demo.voxel"), ConfigError);
 }
+
+TEST(Config, MalformedEvalExpressionIsAOneLineConfigError) {
+    // Found by tests/fuzz/fuzz_ini.cpp: MRPT's INI parser evaluates $eval{...} while parsing,
+    // and its error for a malformed expression spans several lines with a call trace.
+    mrpt::config::CConfigFileMemory cfg;
+    try {
+        setIniContent(cfg, "[localization]\nrounds = $eval{3 +* (}\n", "bad.ini");
+        ADD_FAILURE() << "no error";
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        EXPECT_EQ(msg.rfind("bad.ini: ", 0), 0u) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+    setIniContent(cfg, "[localization]\nrounds = $eval{3+1}\n", "good.ini");
+    EXPECT_EQ(cfg.read_int("localization", "rounds", 0), 4);
+}

@@ -137,6 +137,21 @@ TEST(Fuzz, PcdDataThatPclReadsAsHeaderIsRefused) {
                 << e.what();
         }
     }
+    // A line of blanks or a lone CR ends PCL's header early (no fields: PCL crashed).
+    for (const std::string blank : {"\r\n", " \n", "\t\r\n"}) {
+        std::string data(40 * 16, '\0');
+        const std::string path = dir + "/blank.pcd";
+        std::ofstream(path, std::ios::binary) << "# .PCD v0.7\n" << blank << header << data;
+        EXPECT_THROW(loadPointCloud(path), std::runtime_error);
+    }
+    // CRLF line ends are fine.
+    {
+        std::string crlf;
+        for (char c : header) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+        const std::string path = dir + "/crlf.pcd";
+        std::ofstream(path, std::ios::binary) << crlf << std::string(40 * 16, '\0');
+        EXPECT_EQ(loadPointCloud(path).size(), 40u);
+    }
     // Binary data that merely starts with '#' or a newline still loads.
     for (const std::string lead : {"#", "\n", " 1.5"}) {
         std::string data = lead;

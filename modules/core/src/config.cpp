@@ -1,5 +1,6 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
+#include <superloc/core/errors.h>
 
 #include <algorithm>
 #include <cctype>
@@ -89,6 +90,15 @@ void applyOverride(mrpt::config::CConfigFileBase& cfg, const std::string& assign
     cfg.write(
         assignment.substr(0, dot), assignment.substr(dot + 1, eq - dot - 1),
         assignment.substr(eq + 1));
+}
+
+void setIniContent(mrpt::config::CConfigFileMemory& cfg, const std::string& text,
+                   const std::string& source) {
+    try {
+        cfg.setContent(text);
+    } catch (const std::exception& e) {
+        throw ConfigError(source + ": " + oneLineError(e));
+    }
 }
 
 }  // namespace superloc

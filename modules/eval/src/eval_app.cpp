@@ -71,7 +71,7 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
             std::ifstream in(source);
             std::stringstream text;
             text << in.rdbuf();
-            cfg.setContent(text.str());
+            setIniContent(cfg, text.str(), source);
         } else
             throw std::invalid_argument("unknown argument '" + a + "' (see --help)");
     }

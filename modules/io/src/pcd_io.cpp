@@ -93,6 +93,11 @@ void checkHeader(const std::string& path) {
     std::map<std::string, std::vector<std::string>> h;
     std::string line;
     for (int n = 0; n < 100 && std::getline(in, line); ++n) {
+        // PCL trims each line and stops reading the header at one left empty ("\r", blanks):
+        // before DATA that leaves it without fields, and its reader dereferences null (found by
+        // tests/fuzz/fuzz_pcd.cpp). Only truly empty lines are skipped by both.
+        if (!line.empty() && line.find_first_not_of(" \t\r\v\f") == std::string::npos)
+            throw bad("blank line with spaces or CR inside the header");
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
         std::istringstream ss(line);

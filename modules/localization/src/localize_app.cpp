@@ -103,7 +103,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     if (!f) throw ConfigError(config_path_ + ": cannot read the configuration file");
     std::stringstream text;
     text << f.rdbuf();
-    cfg_.setContent(text.str());
+    setIniContent(cfg_, text.str(), config_path_);
     for (const auto& s : sets) applyOverride(cfg_, s);
     if (!method.empty()) cfg_.write("localization", "method", method);
     if (quiet_) setMinLoggingLevel(mrpt::system::LVL_ERROR);

@@ -90,7 +90,7 @@ MapAppArgs parseMapAppArgs(int argc, const char* const* argv) {
         std::ifstream in(a.config);
         std::stringstream text;
         text << in.rdbuf();
-        cfg.setContent(text.str());
+        setIniContent(cfg, text.str(), a.config);
         source = a.config;
     }
     for (const auto& o : a.overrides) applyOverride(cfg, o);

@@ -38,7 +38,7 @@ P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect,
 SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::string>& overrides) {
     SimConfig c;
     c.source = ini_path;
-    c.ini.setContent(readText(ini_path, "the configuration file"));
+    setIniContent(c.ini, readText(ini_path, "the configuration file"), ini_path);
     for (const auto& o : overrides) applyOverride(c.ini, o);
 
     std::vector<std::string> sections;
@@ -76,7 +76,7 @@ SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::stri
         if (!std::filesystem::exists(pp))
             throw ConfigError(ini_path + ": [lidar] preset = '" + preset + "': file not found (" +
                               pp.string() + ")");
-        lidar_ini.setContent(readText(pp.string(), "the LiDAR preset"));
+        setIniContent(lidar_ini, readText(pp.string(), "the LiDAR preset"), pp.string());
         validateSection(lidar_ini, "lidar", LidarParams(), pp.string());
     }
     std::vector<std::string> keys;

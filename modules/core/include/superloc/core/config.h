@@ -13,6 +13,10 @@
 #include <string>
 #include <vector>
 
+namespace mrpt::config {
+class CConfigFileMemory;
+}
+
 namespace superloc {
 
 /// Raised for a bad configuration; what() is one line naming the source, section and key.
@@ -48,6 +52,11 @@ std::string stripIniValue(const std::string& raw);
 bool parseDouble(const std::string& s, double& out);
 /// Parses true/false/1/0/yes/no (case-insensitive).
 bool parseBool(const std::string& s, bool& out);
+
+/// cfg.setContent(text) with MRPT's parse errors (e.g. a malformed `$eval{...}`, whose message
+/// spans several lines with a call trace) turned into a one-line ConfigError naming `source`.
+void setIniContent(mrpt::config::CConfigFileMemory& cfg, const std::string& text,
+                   const std::string& source);
 
 /// Applies "section.key=value" overrides (from --set) to a config, throwing ConfigError with
 /// the offending text when it is not of that form.
