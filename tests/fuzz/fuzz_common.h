@@ -5,6 +5,8 @@
 // type, a multi-line message — is a finding: the target aborts so libFuzzer keeps the input.
 #pragma once
 
+#include <superloc/io/point_cloud_io.h>
+
 #include <unistd.h>
 
 #include <cstdint>
@@ -51,6 +53,21 @@ void expectLoadsOrThrowsOneLine(F&& load) {
             std::abort();
         }
     }
+}
+
+/// One point-cloud input: the bytes as a file with extension `ext`, read by io::loadPointCloud;
+/// it loads with consistent attributes (absent or one per point) or throws one line.
+inline int fuzzPointCloudFile(const char* ext, const uint8_t* data, size_t size) {
+    const std::string& path = scratchPath(ext);
+    writeBytes(path, data, size);
+    expectLoadsOrThrowsOneLine([&] {
+        size_t dropped = 0;
+        const PointCloud c = io::loadPointCloud(path, io::CloudFormat::Auto, &dropped);
+        if ((!c.intensity.empty() && c.intensity.size() != c.size()) ||
+            (!c.normals.empty() && c.normals.size() != c.size()) || (!c.rgb.empty() && c.rgb.size() != c.size()))
+            std::abort();
+    });
+    return 0;
 }
 
 }  // namespace superloc::fuzz
