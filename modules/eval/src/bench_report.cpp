@@ -131,6 +131,24 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
             if (r.status != "ok")
                 md += "- " + r.sequence + " / " + r.method + ": " + r.status + "\n";
     }
+    bool any_health = false;
+    for (const auto& r : runs) any_health |= r.result && r.result->health.has_value();
+    if (any_health) {
+        md +=
+            "\n## Health vs ground-truth error\n\nFrames per health state (doc/health.md) and error "
+            "bucket: < 0.1 m | 0.1-0.5 m | > 0.5 m or > 5°. The last `ok` column must be 0: a frame "
+            "that far off reported `ok` is confidently wrong.\n\n| Sequence | Method | ok | degraded | "
+            "lost | ok and > 0.5 m |\n|---|---|---:|---:|---:|---:|\n";
+        const auto cells = [](const std::array<size_t, 3>& c) {
+            return std::to_string(c[0]) + " / " + std::to_string(c[1]) + " / " + std::to_string(c[2]);
+        };
+        for (const auto& r : runs) {
+            if (!r.result || !r.result->health) continue;
+            const auto& h = *r.result->health;
+            md += "| " + r.sequence + " | " + r.method + " | " + cells(h.counts[0]) + " | " + cells(h.counts[1]) +
+                  " | " + cells(h.counts[2]) + " | " + std::to_string(h.confidentlyWrong()) + " |\n";
+        }
+    }
     md +=
         "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] "
         "|\n|---|---|---|---:|---:|---:|\n";

@@ -1,11 +1,36 @@
+#include <superloc/core/se3.h>
 #include <superloc/eval/evaluation.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 
 namespace superloc::eval {
+
+HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
+                                double assoc_tolerance) {
+    HealthConfusion c;
+    const Association a = associate(est, gt, assoc_tolerance);
+    const size_t n = std::min(est.size(), frames.frames.size());
+    for (size_t i = 0; i < n; ++i) {
+        const std::string& h = frames.frames[i].health;
+        const size_t state = h == "ok" ? 0 : h == "degraded" ? 1 : 2;
+        if (i >= a.gt_of_est.size() || a.gt_of_est[i] == SIZE_MAX) {
+            ++c.unmatched;
+            continue;
+        }
+        const SE3d& T = est[i].pose;
+        const SE3d& G = gt[a.gt_of_est[i]].pose;
+        const double dxyz = translationDistance(T, G);
+        const double ddeg = rotationAngle(T, G) * 180.0 / M_PI;
+        const size_t bucket = dxyz > 0.5 || ddeg > 5.0 ? 2 : dxyz >= 0.1 ? 1 : 0;
+        c.counts[state][bucket]++;
+    }
+    return c;
+}
 
 EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParams& params,
                     const PointCloud* est_map, const PointCloud* gt_map, const FrameLog* frames) {
@@ -34,6 +59,7 @@ EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParam
                     break;
                 }
         r.degenerate_frame_percent = 100.0 * double(flagged) / double(frames->frames.size());
+        if (frames->has_health) r.health = healthConfusion(est, gt, *frames, params.assoc_tolerance);
     }
     return r;
 }
@@ -84,6 +110,16 @@ io::Json toJson(const EvalResult& r, bool with_curves) {
         j["stages"] = stages;
     }
     if (r.degenerate_frame_percent) j["degenerate_frame_percent"] = *r.degenerate_frame_percent;
+    if (r.health) {
+        io::Json h = io::Json::object();
+        for (int s = 0; s < 3; ++s)
+            h[kHealthStates[s]] = {{"err_lt_0.1m", r.health->counts[s][0]},
+                                   {"err_0.1_0.5m", r.health->counts[s][1]},
+                                   {"err_gt_0.5m_or_5deg", r.health->counts[s][2]}};
+        h["unmatched"] = r.health->unmatched;
+        h["confidently_wrong"] = r.health->confidentlyWrong();
+        j["health"] = h;
+    }
     return j;
 }
 
@@ -116,6 +152,13 @@ std::string summaryMarkdown(const EvalResult& r) {
                 fmt("%.1f", r.timing->max_ms) + ", " + fmt("%.1f", r.timing->fps));
     if (r.degenerate_frame_percent)
         row("frames with a degenerate axis [%]", fmt("%.1f", *r.degenerate_frame_percent));
+    if (r.health) {
+        for (int st = 0; st < 3; ++st) {
+            const auto& c = r.health->counts[st];
+            row(std::string("health ") + kHealthStates[st] + ": frames < 0.1 m / 0.1-0.5 m / > 0.5 m or 5 deg",
+                std::to_string(c[0]) + " / " + std::to_string(c[1]) + " / " + std::to_string(c[2]));
+        }
+    }
     return s;
 }
 

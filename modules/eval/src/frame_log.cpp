@@ -57,6 +57,7 @@ FrameLog loadFrameLog(const std::string& path) {
     for (int k = 0; k < 6; ++k)
         log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
 
+    log.has_health = col.count("health") > 0;
     size_t lineno = 1;
     while (std::getline(in, line)) {
         ++lineno;
@@ -81,6 +82,12 @@ FrameLog loadFrameLog(const std::string& path) {
             } catch (const std::invalid_argument& e) {
                 throw std::runtime_error(where + e.what());
             }
+        }
+        if (log.has_health) {
+            const size_t k = col["health"];
+            f.health = k < cells.size() ? cells[k] : "";
+            if (f.health != "ok" && f.health != "degraded" && f.health != "lost")
+                throw std::runtime_error(where + "column 'health' is '" + f.health + "' (ok, degraded or lost)");
         }
         // Per-stage times only from rows whose cell count matches the header (a free-text
         // column holding a comma would shift them); t, gamma and ms_total come first.

@@ -218,6 +218,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 summary_.used_imu += r.used_imu;
                 summary_.with_prior += r.prior_used;
                 summary_.recovered += r.recovered;
+                summary_.health[static_cast<size_t>(r.health)]++;
                 if (r.recovered)
                     MRPT_LOG_INFO_FMT("frame %zu (t=%.3f): recovered from a yaw hypothesis, %.1f deg from the "
                                       "constant-velocity prediction, inlier ratio %.2f",

@@ -39,6 +39,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
     : mrpt::system::COutputLogger("Localizer"),
       params_(params),
       method_(methodFromString(params.loc.method)),
+      health_(params.health),
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
       g_map_(0, 0, -params.imu.gravity) {
@@ -424,6 +425,10 @@ FrameReport Localizer::process(const Scan& scan) {
         rep.ms.solve += msSince(t_rec);
     }
     if (!rep.diverged) last_tracked_inlier_ratio_ = rep.inlier_ratio;
+    // Health (health.h): the solved pose against the prediction, then every check.
+    rep.pred_dxyz = translationDistance(rep.T_map_lidar, rep.T_map_lidar_pred);
+    rep.pred_ddeg = rotationAngle(rep.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+    health_.assess(rep);
     prev_prev_ = have_prev_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;
     have_prev_ = true;

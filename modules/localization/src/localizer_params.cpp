@@ -10,6 +10,7 @@ LocalizerParams LocalizerParams::load(const mrpt::config::CConfigFileBase& cfg, 
     p.fusion = loadParams<fusion::FusionParams>(cfg, "fusion", source);
     p.imu = loadParams<imu::ImuParams>(cfg, "imu", source);
     p.risk = loadParams<risk::RiskParams>(cfg, "risk", source);
+    p.health = loadParams<HealthParams>(cfg, "health", source);
     return p;
 }
 
@@ -19,6 +20,7 @@ void LocalizerParams::save(mrpt::config::CConfigFileBase& cfg) const {
     fusion.saveToConfigFile(cfg, "fusion");
     imu.saveToConfigFile(cfg, "imu");
     risk.saveToConfigFile(cfg, "risk");
+    health.saveToConfigFile(cfg, "health");
 }
 
 }  // namespace superloc::localization

@@ -21,7 +21,8 @@ std::string framesCsvHeader() {
            "prior_w_x,prior_w_y,prior_w_z,prior_w_roll,prior_w_pitch,prior_w_yaw,vx,vy,vz,"
            "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve,ms_total_cpu,"
            "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
-           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered";
+           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered,"
+           "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg";
 }
 
 std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
@@ -61,6 +62,12 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 3; ++k) add("%.5f", r.translation_eigenvalues[k]);
     for (int k = 0; k < 3; ++k) add("%.5f", r.weakest_translation[k]);
     add("%d", r.recovered ? 1 : 0);
+    s += ',';
+    s += healthName(r.health);
+    s += ',' + r.health_reason;
+    add("%.4f", r.inlier_reference);
+    add("%.4f", r.pred_dxyz);
+    add("%.3f", r.pred_ddeg);
     return s;
 }
 
@@ -108,6 +115,7 @@ io::Json summaryJson(const RunSummary& s) {
             {"frames_with_imu", s.used_imu},
             {"frames_with_prior", s.with_prior},
             {"frames_recovered", s.recovered},
+            {"frames_health", {{"ok", s.health[0]}, {"degraded", s.health[1]}, {"lost", s.health[2]}}},
             {"frames_flagged", s.flagged},
             {"frames_flagged_without_prior", s.flagged_without_prior},
             {"frames_flagged_per_axis",

@@ -2,6 +2,8 @@
 // maps and the localizer's frame log; plus its JSON and Markdown forms.
 #pragma once
 
+#include <array>
+
 #include <superloc/eval/eval_params.h>
 #include <superloc/eval/frame_log.h>
 #include <superloc/eval/map_metrics.h>
@@ -16,6 +18,21 @@
 
 namespace superloc::eval {
 
+/// Health (frames.csv `health`) against the ground-truth error of the same frame: counts per
+/// state (ok, degraded, lost) and error bucket (< 0.1 m; 0.1-0.5 m; > 0.5 m or > 5 deg).
+struct HealthConfusion {
+    std::array<std::array<size_t, 3>, 3> counts{};  ///< [state][bucket]
+    size_t unmatched = 0;                          ///< frames without a GT pose in tolerance
+    /// Frames more than 0.5 m / 5 deg off that were reported ok: the number that must be 0.
+    size_t confidentlyWrong() const { return counts[0][2]; }
+};
+inline constexpr const char* kHealthStates[3] = {"ok", "degraded", "lost"};
+inline constexpr const char* kErrorBuckets[3] = {"< 0.1 m", "0.1-0.5 m", "> 0.5 m or > 5 deg"};
+
+/// The confusion table of a run whose frame log has a health column (frames[i] is est[i]).
+HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
+                                double assoc_tolerance);
+
 struct EvalResult {
     size_t est_frames = 0, gt_frames = 0, matched_frames = 0;
     bool aligned = false;
@@ -26,6 +43,7 @@ struct EvalResult {
     std::optional<TimingStats> timing;               ///< ms_total of the frame log
     std::map<std::string, TimingStats> stages;       ///< every ms_* column of the frame log
     std::optional<double> degenerate_frame_percent;  ///< [%] frames with any axis flagged
+    std::optional<HealthConfusion> health;           ///< when the frame log has a health column
 };
 
 /// Evaluates one run. `est_map`/`gt_map` and `frames` may be null.

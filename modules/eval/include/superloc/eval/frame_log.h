@@ -15,6 +15,7 @@ struct FrameRecord {
     Vec6d gamma = Vec6d::Zero();       ///< confidence, (x y z roll pitch yaw)
     std::array<bool, 6> degenerate{};  ///< parsed from the `degenerate` letters
     double ms_total = 0;               ///< [ms] wall time of the frame
+    std::string health;                ///< "ok" | "degraded" | "lost"; empty when the log has none
 };
 
 struct FrameLog {
@@ -23,6 +24,7 @@ struct FrameLog {
     /// header adds only to ms_total.
     std::map<std::string, std::vector<double>> stage_ms;
     bool has_gamma = false;  ///< the file had the six gamma_* columns
+    bool has_health = false;  ///< the file had the `health` column
 };
 
 /// Parses the `degenerate` column ("x", "xyaw", "rollpitch", "" ...) into flags; throws

@@ -4,6 +4,7 @@
 
 #include <superloc/core/types.h>
 #include <superloc/imu/preintegration.h>
+#include <superloc/localization/health.h>
 #include <superloc/risk/alignment_risk.h>
 
 #include <array>
@@ -65,6 +66,13 @@ struct FrameReport {
     bool recovered = false;       ///< diverged at the prediction, re-solved from a yaw hypothesis
     bool used_imu = false;        ///< prediction and factor from IMU preintegration
     bool deskewed = false;
+
+    // Health (health.h, doc/health.md): no ground truth involved.
+    Health health = Health::Ok;
+    std::string health_reason;    ///< checks that failed, '+'-joined ("not_converged+weak_x")
+    double inlier_reference = 0;  ///< the run's reference inlier ratio before this frame (0: none yet)
+    double pred_dxyz = 0;         ///< [m] solved vs predicted LiDAR position
+    double pred_ddeg = 0;         ///< [deg] solved vs predicted LiDAR rotation
 
     StageTimes ms;
 

@@ -18,6 +18,7 @@
 #include <superloc/imu/imu_params.h>
 #include <superloc/localization/association.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/localization/health.h>
 #include <superloc/localization/localization_params.h>
 #include <superloc/map/prior_map.h>
 #include <superloc/risk/alignment_risk.h>
@@ -37,8 +38,9 @@ struct LocalizerParams {
     fusion::FusionParams fusion;
     imu::ImuParams imu;
     risk::RiskParams risk;
+    HealthParams health;
 
-    /// Loads [localization] [features] [fusion] [imu] [risk]; `source` names the file in errors.
+    /// Loads [localization] [features] [fusion] [imu] [risk] [health]; `source` names the file in errors.
     static LocalizerParams load(const mrpt::config::CConfigFileBase& cfg, const std::string& source);
     void save(mrpt::config::CConfigFileBase& cfg) const;
 };
@@ -115,6 +117,7 @@ class Localizer : public mrpt::system::COutputLogger {
     LocalizerParams params_;
     Method method_;
     double last_tracked_inlier_ratio_ = 0;  ///< inlier ratio of the last frame not diverged
+    HealthMonitor health_;
     std::shared_ptr<const map::PriorMap> map_;
     std::unique_ptr<NdtRegistration> ndt_;
     AssociationParams assoc_;

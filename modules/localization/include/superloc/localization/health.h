@@ -1,0 +1,63 @@
+// Health of a localized frame (DESIGN §4 step 6, doc/health.md): ok | degraded | lost, from
+// evidence that needs no ground truth. The point is never to be confidently wrong: a frame is
+// `ok` only when every check passes.
+//   lost      the registration failed (diverged: too few inliers, no correspondences, solver, a
+//             jump without IMU to fall back on), or its inlier ratio fell below
+//             lost_inlier_drop x what this map and sensor give when tracking is right
+//   degraded  the pose stands but some evidence is missing: not converged in the round budget,
+//             an axis weakly constrained by the scan (gamma below weak_gamma: that axis comes
+//             from the prediction or odom_alt, not the map), an inlier ratio below
+//             degraded_inlier_drop x the reference, the IMU prediction disagreeing with the
+//             solved pose, or a registration rejected in favour of the IMU prediction
+//   ok        none of the above
+// The reference inlier ratio is the median of the last `reference_frames` frames that were
+// tracked (converged, not diverged, inliers and prediction checks passed).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <deque>
+#include <string>
+
+namespace superloc::localization {
+
+struct FrameReport;
+
+enum class Health { Ok, Degraded, Lost };
+const char* healthName(Health h);  ///< "ok", "degraded", "lost"
+
+/// Section [health] of the INI.
+struct HealthParams : public mrpt::config::CLoadableOptions {
+    double weak_gamma = 0.3;            ///< [-] an axis with gamma below: degraded (the risk flag is 0.2)
+    double degraded_inlier_drop = 0.9;  ///< [-] inlier ratio below this x the reference: degraded
+    double lost_inlier_drop = 0.6;      ///< [-] below this x the reference: lost
+    int reference_frames = 20;          ///< tracked frames whose median inlier ratio is the reference
+    int reference_min_frames = 3;       ///< the relative checks start with this many
+    double max_pred_xyz = 0.3;          ///< [m] IMU-predicted vs solved position farther: degraded
+    double max_pred_deg = 3.0;          ///< [deg] the same for the rotation
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    void validate() const;
+};
+
+/// Classifies frames in order and keeps the reference inlier ratio of this run.
+class HealthMonitor {
+   public:
+    explicit HealthMonitor(const HealthParams& p = {}) : p_(p) {}
+    /// Sets rep.health, rep.health_reason and rep.inlier_reference from the report's fields
+    /// (diverged, converged, gamma, inlier_ratio, pred_dxyz/pred_ddeg, used_imu) and updates
+    /// the reference.
+    void assess(FrameReport& rep);
+    /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
+    double reference() const;
+    /// What assess() would say about a candidate (relocalization), without touching the reference.
+    Health classify(const FrameReport& rep, std::string* reason = nullptr) const;
+    const HealthParams& params() const { return p_; }
+
+   private:
+    HealthParams p_;
+    std::deque<double> tracked_;  ///< inlier ratios of the last tracked frames
+};
+
+}  // namespace superloc::localization

@@ -1,0 +1,104 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/localization/frame_report.h>
+#include <superloc/localization/health.h>
+
+#include <algorithm>
+#include <vector>
+
+namespace superloc::localization {
+
+const char* healthName(Health h) {
+    switch (h) {
+        case Health::Ok: return "ok";
+        case Health::Degraded: return "degraded";
+        case Health::Lost: return "lost";
+    }
+    return "?";
+}
+
+void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    MRPT_LOAD_CONFIG_VAR(weak_gamma, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(degraded_inlier_drop, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(lost_inlier_drop, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(reference_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(reference_min_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_pred_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_pred_deg, double, c, s);
+}
+
+void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(weak_gamma, "[-] an axis with gamma below: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(degraded_inlier_drop, "[-] inlier ratio below this x the reference: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(lost_inlier_drop, "[-] inlier ratio below this x the reference: lost");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(reference_frames, "tracked frames in the reference inlier ratio (median)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(reference_min_frames, "the relative inlier checks start with this many");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_xyz, "[m] IMU prediction vs solved position farther: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_deg, "[deg] IMU prediction vs solved rotation farther: degraded");
+}
+
+void HealthParams::validate() const {
+    const auto in01 = [](double v, const char* key) {
+        if (!(v >= 0 && v <= 1)) throw ConfigError(std::string("[health] ") + key + " must be in [0, 1]");
+    };
+    in01(weak_gamma, "weak_gamma");
+    in01(degraded_inlier_drop, "degraded_inlier_drop");
+    in01(lost_inlier_drop, "lost_inlier_drop");
+    if (lost_inlier_drop > degraded_inlier_drop)
+        throw ConfigError("[health] lost_inlier_drop must not exceed degraded_inlier_drop");
+    if (reference_frames < 1) throw ConfigError("[health] reference_frames must be >= 1");
+    if (reference_min_frames < 1 || reference_min_frames > reference_frames)
+        throw ConfigError("[health] reference_min_frames must be in [1, reference_frames]");
+    if (!(max_pred_xyz > 0)) throw ConfigError("[health] max_pred_xyz must be > 0");
+    if (!(max_pred_deg > 0)) throw ConfigError("[health] max_pred_deg must be > 0");
+}
+
+double HealthMonitor::reference() const {
+    if (tracked_.size() < static_cast<size_t>(p_.reference_min_frames)) return 0;
+    std::vector<double> v(tracked_.begin(), tracked_.end());
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+}
+
+Health HealthMonitor::classify(const FrameReport& r, std::string* reason) const {
+    static const char* kAxis[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+    std::string why;
+    const auto add = [&why](const std::string& s) { why += (why.empty() ? "" : "+") + s; };
+    const double ref = reference();
+    Health h = Health::Ok;
+    if (r.diverged && r.diverged_reason != "jump_rejected") {
+        add(r.diverged_reason.empty() ? "diverged" : r.diverged_reason);
+        h = Health::Lost;
+    } else if (ref > 0 && r.inlier_ratio < p_.lost_inlier_drop * ref) {
+        add("inliers");
+        h = Health::Lost;
+    } else {
+        if (r.diverged) add(r.diverged_reason);  // jump_rejected: the IMU prediction was kept
+        if (!r.converged) add("not_converged");
+        std::string weak;
+        for (int k = 0; k < 6; ++k)
+            if (r.gamma[k] < p_.weak_gamma) weak += std::string(weak.empty() ? "" : "_") + kAxis[k];
+        if (!weak.empty()) add("weak_" + weak);
+        if (ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) add("inliers");
+        if (r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg)) add("prediction");
+        if (!why.empty()) h = Health::Degraded;
+    }
+    if (reason) *reason = why;
+    return h;
+}
+
+void HealthMonitor::assess(FrameReport& r) {
+    r.health = classify(r, &r.health_reason);
+    r.inlier_reference = reference();
+    // Tracked: the fit itself is sound (weak axes aside, which say nothing about this map's
+    // inlier ratio when tracking is right).
+    const double ref = reference();
+    const bool tracked = !r.diverged && r.converged && !(ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) &&
+                         !(r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg));
+    if (tracked) {
+        tracked_.push_back(r.inlier_ratio);
+        while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
+    }
+}
+
+}  // namespace superloc::localization
