@@ -23,6 +23,8 @@ void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
     MRPT_LOAD_CONFIG_VAR(lost_inlier_drop, double, c, s);
     MRPT_LOAD_CONFIG_VAR(reference_frames, int, c, s);
     MRPT_LOAD_CONFIG_VAR(reference_min_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(settled_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(settled_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_pred_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_pred_deg, double, c, s);
 }
@@ -33,6 +35,8 @@ void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(lost_inlier_drop, "[-] inlier ratio below this x the reference: lost");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reference_frames, "tracked frames in the reference inlier ratio (median)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reference_min_frames, "the relative inlier checks start with this many");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settled_xyz, "[m] out of rounds with a last update above: not converged");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settled_deg, "[deg] ...or a last rotation update above");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_xyz, "[m] IMU prediction vs solved position farther: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_deg, "[deg] IMU prediction vs solved rotation farther: degraded");
 }
@@ -49,8 +53,15 @@ void HealthParams::validate() const {
     if (reference_frames < 1) throw ConfigError("[health] reference_frames must be >= 1");
     if (reference_min_frames < 1 || reference_min_frames > reference_frames)
         throw ConfigError("[health] reference_min_frames must be in [1, reference_frames]");
+    if (!(settled_xyz > 0) || !(settled_deg > 0))
+        throw ConfigError("[health] settled_xyz and settled_deg must be > 0");
     if (!(max_pred_xyz > 0)) throw ConfigError("[health] max_pred_xyz must be > 0");
     if (!(max_pred_deg > 0)) throw ConfigError("[health] max_pred_deg must be > 0");
+}
+
+bool HealthMonitor::notConverged(const FrameReport& r) const {
+    return !r.converged &&
+           (r.final_level > 0 || r.last_step_xyz > p_.settled_xyz || r.last_step_deg > p_.settled_deg);
 }
 
 double HealthMonitor::reference() const {
@@ -74,7 +85,7 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason) const 
         h = Health::Lost;
     } else {
         if (r.diverged) add(r.diverged_reason);  // jump_rejected: the IMU prediction was kept
-        if (!r.converged) add("not_converged");
+        if (notConverged(r)) add("not_converged");
         std::string weak;
         for (int k = 0; k < 6; ++k)
             if (r.gamma[k] < p_.weak_gamma) weak += std::string(weak.empty() ? "" : "_") + kAxis[k];
@@ -93,7 +104,7 @@ void HealthMonitor::assess(FrameReport& r) {
     // Tracked: the fit itself is sound (weak axes aside, which say nothing about this map's
     // inlier ratio when tracking is right).
     const double ref = reference();
-    const bool tracked = !r.diverged && r.converged && !(ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) &&
+    const bool tracked = !r.diverged && !notConverged(r) && !(ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) &&
                          !(r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg));
     if (tracked) {
         tracked_.push_back(r.inlier_ratio);

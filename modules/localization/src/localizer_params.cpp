@@ -11,6 +11,8 @@ LocalizerParams LocalizerParams::load(const mrpt::config::CConfigFileBase& cfg, 
     p.imu = loadParams<imu::ImuParams>(cfg, "imu", source);
     p.risk = loadParams<risk::RiskParams>(cfg, "risk", source);
     p.health = loadParams<HealthParams>(cfg, "health", source);
+    p.relocalization = loadParams<RelocalizationParams>(cfg, "relocalization", source);
+    p.global_search = loadParams<reloc::GlobalSearchParams>(cfg, "global_search", source);
     return p;
 }
 
@@ -21,6 +23,8 @@ void LocalizerParams::save(mrpt::config::CConfigFileBase& cfg) const {
     imu.saveToConfigFile(cfg, "imu");
     risk.saveToConfigFile(cfg, "risk");
     health.saveToConfigFile(cfg, "health");
+    relocalization.saveToConfigFile(cfg, "relocalization");
+    global_search.saveToConfigFile(cfg, "global_search");
 }
 
 }  // namespace superloc::localization

@@ -5,6 +5,7 @@
 #include <superloc/core/types.h>
 #include <superloc/imu/preintegration.h>
 #include <superloc/localization/health.h>
+#include <superloc/localization/relocalization.h>
 #include <superloc/risk/alignment_risk.h>
 
 #include <array>
@@ -61,6 +62,8 @@ struct FrameReport {
     int final_level = 0;          ///< voxel map level of the last round (0 = finest)
     bool coarse_start = false;    ///< velocity unknown: solved from the coarsest level, no jump check
     bool converged = false;       ///< last round's update below the thresholds
+    double last_step_xyz = 0;     ///< [m] the last round's update (translation)
+    double last_step_deg = 0;     ///< [deg] the last round's update (rotation)
     bool diverged = false;        ///< divergence detected (see reason)
     std::string diverged_reason;  ///< "inliers", "jump", "no_correspondences", "solver", ...
     bool recovered = false;       ///< diverged at the prediction, re-solved from a yaw hypothesis
@@ -73,6 +76,7 @@ struct FrameReport {
     double inlier_reference = 0;  ///< the run's reference inlier ratio before this frame (0: none yet)
     double pred_dxyz = 0;         ///< [m] solved vs predicted LiDAR position
     double pred_ddeg = 0;         ///< [deg] solved vs predicted LiDAR rotation
+    RelocReport reloc;            ///< the relocalization run on this frame, if any
 
     StageTimes ms;
 

@@ -4,7 +4,7 @@
 //   lost      the registration failed (diverged: too few inliers, no correspondences, solver, a
 //             jump without IMU to fall back on), or its inlier ratio fell below
 //             lost_inlier_drop x what this map and sensor give when tracking is right
-//   degraded  the pose stands but some evidence is missing: not converged in the round budget,
+//   degraded  the pose stands but some evidence is missing: still moving when its rounds ran out,
 //             an axis weakly constrained by the scan (gamma below weak_gamma: that axis comes
 //             from the prediction or odom_alt, not the map), an inlier ratio below
 //             degraded_inlier_drop x the reference, the IMU prediction disagreeing with the
@@ -33,6 +33,10 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
     double lost_inlier_drop = 0.6;      ///< [-] below this x the reference: lost
     int reference_frames = 20;          ///< tracked frames whose median inlier ratio is the reference
     int reference_min_frames = 3;       ///< the relative checks start with this many
+    /// A frame that ran out of rounds counts as not converged when its last update was above
+    /// these (or it never reached the voxel map's finest level); below, it was only settling.
+    double settled_xyz = 0.01;          ///< [m]
+    double settled_deg = 0.1;           ///< [deg]
     double max_pred_xyz = 0.3;          ///< [m] IMU-predicted vs solved position farther: degraded
     double max_pred_deg = 3.0;          ///< [deg] the same for the rotation
 
@@ -54,6 +58,8 @@ class HealthMonitor {
     /// What assess() would say about a candidate (relocalization), without touching the reference.
     Health classify(const FrameReport& rep, std::string* reason = nullptr) const;
     const HealthParams& params() const { return p_; }
+    /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
+    bool notConverged(const FrameReport& r) const;
 
    private:
     HealthParams p_;

@@ -20,7 +20,9 @@
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 #include <superloc/localization/localization_params.h>
+#include <superloc/localization/relocalization.h>
 #include <superloc/map/prior_map.h>
+#include <superloc/reloc/global_search.h>
 #include <superloc/risk/alignment_risk.h>
 
 #include <memory>
@@ -39,8 +41,10 @@ struct LocalizerParams {
     imu::ImuParams imu;
     risk::RiskParams risk;
     HealthParams health;
+    RelocalizationParams relocalization;
+    reloc::GlobalSearchParams global_search;
 
-    /// Loads [localization] [features] [fusion] [imu] [risk] [health]; `source` names the file in errors.
+    /// Loads [localization] [features] [fusion] [imu] [risk] [health] [relocalization] [global_search]; `source` names the file in errors.
     static LocalizerParams load(const mrpt::config::CConfigFileBase& cfg, const std::string& source);
     void save(mrpt::config::CConfigFileBase& cfg) const;
 };
@@ -54,6 +58,14 @@ class Localizer : public mrpt::system::COutputLogger {
     /// Pose of the LiDAR at the first scan (T_map_lidar). Without it the first scan starts at
     /// the identity.
     void setInitialPose(const SE3d& T_map_lidar);
+    /// The next scan is localized without a pose (doc/health.md): by the global search in the
+    /// whole map, or in `region` when given, each hypothesis verified by the fine registration
+    /// and the health checks. A scan that finds no unambiguous pose is reported lost and the
+    /// next one tries again. For `--initial-pose auto`, a kidnap signalled from outside, or a
+    /// "relocalize" service of a ROS node. Throws ConfigError when relocalization is disabled.
+    void relocalize(const std::optional<reloc::SearchRegion>& region = std::nullopt);
+    /// The global search over the map (built at construction when [relocalization] enabled).
+    const reloc::GlobalSearch* globalSearch() const { return search_.get(); }
     /// Samples must come in time order, before the scans they precede.
     void addImu(const ImuSample& s);
     /// Second odometry (odom_alt) poses, kept for the relative-pose prior (issue 5).
@@ -112,12 +124,27 @@ class Localizer : public mrpt::system::COutputLogger {
     std::optional<SE3d> odomAltForFrame() const;
     /// odom_alt's reported covariance interpolated at t, when its samples carry one.
     std::optional<Mat6d> odomAltCovAt(double t) const;
+    /// Relocalization on the current scan (localizer_relocalize.cpp): search (in `region`, or
+    /// everywhere), verify the best hypotheses, commit the winner when it is unambiguous. On
+    /// success rep and the state are the winner's (velocity unknown); else both stay as they
+    /// were, with rep.reloc saying why.
+    bool runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
+                           FrameReport& rep);
     std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
 
     LocalizerParams params_;
     Method method_;
     double last_tracked_inlier_ratio_ = 0;  ///< inlier ratio of the last frame not diverged
     HealthMonitor health_;
+    std::unique_ptr<reloc::GlobalSearch> search_;
+    bool reloc_pending_ = false;                 ///< relocalize() was called: the next scan searches
+    std::optional<reloc::SearchRegion> reloc_region_;
+    int lost_run_ = 0;                           ///< consecutive lost frames
+    std::optional<SE3d> last_good_T_map_lidar_;  ///< last frame not lost
+    double last_good_t_ = 0;
+    bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
+    bool doubt_ = false;       ///< a frame in doubt was not settled by a search: confirm the next
+    bool verifying_ = false;   ///< solving from a hypothesis: no odom_alt prior, no remap
     std::shared_ptr<const map::PriorMap> map_;
     std::unique_ptr<NdtRegistration> ndt_;
     AssociationParams assoc_;

@@ -1,0 +1,52 @@
+// Relocalization (doc/health.md): what the Localizer does when it has no pose (`--initial-pose
+// auto`) or has lost it. The global search (reloc::GlobalSearch) proposes poses; each is
+// verified by the localizer's own fine registration from that pose and by the health checks;
+// a winner is committed only when nothing else explains the scan about as well and no axis of
+// it is unconstrained (the paper's alignment risk: a corridor's scan fits everywhere along it).
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <superloc/core/types.h>
+
+#include <string>
+#include <vector>
+
+namespace superloc::localization {
+
+/// Section [relocalization] of the INI.
+struct RelocalizationParams : public mrpt::config::CLoadableOptions {
+    bool enabled = true;          ///< search again when lost (every method alike); off: stay lost
+    int local_after_lost = 1;     ///< consecutive lost frames before a search around the last pose
+    int global_after_lost = 3;    ///< ...before a search in the whole map
+    double local_radius = 5.0;    ///< [m] radius of the local search around the last tracked pose
+    double local_radius_rate = 2.0;  ///< [m/s] grows by this per second since that pose
+    double local_yaw_deg = 180;   ///< [deg] half width of its yaw interval (180: any yaw)
+    int verify_hypotheses = 3;    ///< best hypotheses verified by fine registration
+    /// [-] with no reference inlier ratio yet (initial pose auto): a verified pose needs this
+    double accept_inlier_ratio = 0.5;
+    /// [-] a second verified pose elsewhere with at least this x the winner's inlier ratio: ambiguous
+    double ambiguity_ratio = 0.9;
+    double distinct_xyz = 2.0;    ///< [m] verified poses farther apart than this are distinct...
+    double distinct_deg = 20.0;   ///< [deg] ...or rotated more than this
+    /// an initial pose outside the map's bounds (grown by features.max_range): `error` (one-line
+    /// error) or `global` (localize the first scan globally instead)
+    std::string out_of_map = "error";
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
+    void validate() const;
+};
+
+/// What a relocalization did on a frame (FrameReport::reloc).
+struct RelocReport {
+    std::string mode;     ///< "" none, "local" (around the last pose), "global" (whole map)
+    std::string result;   ///< "accepted", "ambiguous", "failed"
+    std::string detail;   ///< why not accepted ("no_hypothesis", "ambiguous_x", "verification", ...)
+    int hypotheses = 0;   ///< proposed by the search
+    int verified = 0;     ///< passed the fine registration and health checks
+    double search_ms = 0; ///< [ms] global search
+    double verify_ms = 0; ///< [ms] fine registrations of the hypotheses
+    std::vector<SE3d> alternatives;  ///< T_map_lidar of the other verified poses (ambiguous)
+};
+
+}  // namespace superloc::localization

@@ -1,0 +1,158 @@
+// Relocalization (doc/health.md, step 7): the global search proposes poses for the current scan,
+// the localizer's own fine registration verifies each, and the health checks and the alignment
+// risk decide whether one of them can be committed.
+#include <superloc/core/se3.h>
+#include <superloc/localization/localizer.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+namespace superloc::localization {
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+}  // namespace
+
+bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
+                                  FrameReport& rep) {
+    const auto& rp = params_.relocalization;
+    RelocReport rr;
+    rr.mode = region ? "local" : "global";
+    rr.result = "failed";
+
+    // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
+    // the scan's ground plane.
+    std::optional<Mat3d> R_level;
+    if (pred.used_imu) R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
+    auto t0 = Clock::now();
+    const reloc::GlobalSearchResult found = search_->search(scan.points, R_level, region);
+    rr.search_ms = msSince(t0);
+    rr.hypotheses = static_cast<int>(found.hypotheses.size());
+    if (found.hypotheses.empty()) {
+        rr.detail = "no_hypothesis" + (found.failure.empty() ? "" : ": " + found.failure);
+        rep.reloc = rr;
+        rep.ms.solve += rr.search_ms;
+        return false;
+    }
+
+    // Verify: the fine registration from each hypothesis, as on a first frame (velocity unknown,
+    // coarse start, no prior, no jump check), then the health checks.
+    struct Outcome {
+        FrameReport rep;
+        fusion::FrameState state;
+        std::vector<fusion::ScanCorrespondence> corr;
+        AssociationStats stats;
+        SE3d T_map_lidar;
+    };
+    const Outcome own{rep, cur_, corr_, last_stats_, last_T_map_lidar_};
+    FrameReport base = rep;
+    base.diverged = false;
+    base.diverged_reason.clear();
+    base.converged = false;
+    base.rounds = base.iterations = 0;
+    std::vector<Outcome> verified;
+    t0 = Clock::now();
+    verifying_ = true;
+    const size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
+    const double ref = health_.reference();
+    for (size_t i = 0; i < n; ++i) {
+        const SE3d T_start = found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse();
+        cur_ = fusion::FrameState{};
+        cur_.t = scan.t;
+        cur_.setBias(prev_.bias());
+        cur_.setPose(T_start);
+        FrameReport r = base;
+        solveIcp(nullptr, true, r);
+        Prediction p = pred;
+        p.T_map_imu = T_start;
+        p.used_imu = false;
+        finish(scan, p, true, r);
+        r.pred_dxyz = translationDistance(r.T_map_lidar, rep.T_map_lidar_pred);
+        r.pred_ddeg = rotationAngle(r.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+        std::string why;
+        const Health h = health_.classify(r, &why);
+        const bool fits = r.converged && h != Health::Lost && (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
+        if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
+    }
+    verifying_ = false;
+    rr.verify_ms = msSince(t0);
+    rr.verified = static_cast<int>(verified.size());
+    const auto restore = [&](const Outcome& o) {
+        cur_ = o.state;
+        corr_ = o.corr;
+        last_stats_ = o.stats;
+        last_T_map_lidar_ = o.T_map_lidar;
+    };
+    const StageTimes ms = rep.ms;
+    const auto report = [&](FrameReport& r) {
+        r.ms = ms;
+        r.ms.solve += rr.search_ms + rr.verify_ms;
+        r.reloc = rr;
+    };
+    if (verified.empty()) {
+        restore(own);
+        rr.detail = "verification";
+        report(rep);
+        return false;
+    }
+    std::sort(verified.begin(), verified.end(),
+              [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
+    const Outcome& best = verified.front();
+    // Ambiguous: another verified pose, distinct from the winner, explains the scan about as
+    // well; or the winner has an axis the scan does not constrain (gamma below the health
+    // check's weak_gamma on x, y or z: a corridor's scan fits anywhere along it).
+    std::string ambiguous;
+    for (size_t i = 1; i < verified.size(); ++i) {
+        const FrameReport& o = verified[i].rep;
+        const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
+                              rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
+        if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
+            rr.alternatives.push_back(o.T_map_lidar);
+            ambiguous = "alternatives";
+        }
+    }
+    static const char* kAxis[3] = {"x", "y", "z"};
+    std::string weak;
+    for (int k = 0; k < 3; ++k)
+        if (best.rep.gamma[k] < params_.health.weak_gamma) weak += kAxis[k];
+    if (!weak.empty()) ambiguous += (ambiguous.empty() ? "" : "+") + ("weak_" + weak);
+    if (!ambiguous.empty()) {
+        // Not committed: the frame stays as it was (lost), reporting the best pose found and
+        // its alternatives; the next scan searches again.
+        restore(own);
+        rr.result = "ambiguous";
+        rr.detail = ambiguous;
+        rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
+        report(rep);
+        return false;
+    }
+    if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
+        // The frame's own solve stands (a suspicious frame the search could not better).
+        restore(own);
+        rr.detail = "not_better";
+        report(rep);
+        return false;
+    }
+    restore(best);
+    rep = best.rep;
+    rr.result = "accepted";
+    report(rep);
+    rep.recovered = true;
+    // After a loss (or with no pose at all) the velocity is unknown: the next frame starts
+    // coarse. A frame that was only in doubt keeps the constant-velocity model of the frames
+    // before it.
+    restart_ = own.rep.diverged || own.rep.health == Health::Lost;
+    MRPT_LOG_INFO_FMT("frame %zu (t=%.3f): relocalized (%s search %.0f ms, %d of %d hypotheses verified in %.0f ms), "
+                      "inlier ratio %.2f",
+                      rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
+                      rep.inlier_ratio);
+    return true;
+}
+
+}  // namespace superloc::localization

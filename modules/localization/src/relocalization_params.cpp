@@ -1,0 +1,56 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/core/config.h>
+#include <superloc/localization/relocalization.h>
+
+namespace superloc::localization {
+
+void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(local_after_lost, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(global_after_lost, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(local_radius, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(local_radius_rate, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(local_yaw_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(verify_hypotheses, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(accept_inlier_ratio, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(ambiguity_ratio, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(distinct_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(distinct_deg, double, c, s);
+    out_of_map = c.read_string(s, "out_of_map", out_of_map);
+}
+
+void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(enabled, "search again when lost (every method); false: stay lost");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(local_after_lost, "consecutive lost frames before a local search");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(global_after_lost, "consecutive lost frames before a global search");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(local_radius, "[m] local search radius around the last tracked pose");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(local_radius_rate, "[m/s] ...grown by this per second since that pose");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(local_yaw_deg, "[deg] half width of the local yaw interval (180: any)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(verify_hypotheses, "best hypotheses verified by fine registration");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(accept_inlier_ratio, "[-] inlier ratio a verified pose needs without a reference");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(ambiguity_ratio, "[-] another verified pose this x as good: ambiguous");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_xyz, "[m] verified poses farther apart are distinct");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_deg, "[deg] ...or rotated more than this");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(out_of_map, "initial pose outside the map: error | global");
+}
+
+void RelocalizationParams::validate() const {
+    if (local_after_lost < 1) throw ConfigError("[relocalization] local_after_lost must be >= 1");
+    if (global_after_lost < local_after_lost)
+        throw ConfigError("[relocalization] global_after_lost must be >= local_after_lost");
+    if (!(local_radius > 0)) throw ConfigError("[relocalization] local_radius must be > 0");
+    if (!(local_radius_rate >= 0)) throw ConfigError("[relocalization] local_radius_rate must be >= 0");
+    if (!(local_yaw_deg > 0 && local_yaw_deg <= 180))
+        throw ConfigError("[relocalization] local_yaw_deg must be in (0, 180]");
+    if (verify_hypotheses < 1) throw ConfigError("[relocalization] verify_hypotheses must be >= 1");
+    if (!(accept_inlier_ratio > 0 && accept_inlier_ratio <= 1))
+        throw ConfigError("[relocalization] accept_inlier_ratio must be in (0, 1]");
+    if (!(ambiguity_ratio > 0 && ambiguity_ratio <= 1))
+        throw ConfigError("[relocalization] ambiguity_ratio must be in (0, 1]");
+    if (!(distinct_xyz > 0) || !(distinct_deg > 0))
+        throw ConfigError("[relocalization] distinct_xyz and distinct_deg must be > 0");
+    if (out_of_map != "error" && out_of_map != "global")
+        throw ConfigError("[relocalization] out_of_map = '" + out_of_map + "' (use error or global)");
+}
+
+}  // namespace superloc::localization
