@@ -133,10 +133,10 @@ void BM_FrameIcp(benchmark::State& s) { BM_Frame(s, kittiParams("icp")); }
 void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams()); }
 void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt")); }
 
-/// One recovered frame (no IMU, LocalizationParams::recovery_*): scans 0 and 1 tracked, then
+/// One recovered frame (no IMU; the relocalization of doc/health.md): scans 0 and 1 tracked, then
 /// scan 2 with its points turned by 45 deg about the sensor's z axis, as if the car had turned
 /// 45 deg more than the constant-velocity prediction says. Only that frame is timed; the
-/// `recovered` counter is the share of iterations in which the recovery found a pose, the
+/// `recovered` counter is the share of iterations in which the local search found a pose, the
 /// worst_err_* counters how far that pose is from the truth.
 void BM_RecoveryFrame(benchmark::State& state) {
     const KittiData* d = kitti();

@@ -19,6 +19,19 @@ struct LocalizeRun {
     localization::RunSummary summary;
     std::vector<localization::FrameReport> frames;  ///< every frame's report, in order
     double ate = 0, worst_m = 0, worst_deg = 0;     ///< against the ground truth
+    std::vector<double> err_m, err_deg;             ///< per frame (NaN: no GT)
+    /// Frames more than 0.5 m / 5 deg from the ground truth that were reported `ok`.
+    size_t confidentlyWrong() const {
+        size_t n = 0;
+        for (size_t i = 0; i < frames.size() && i < err_m.size(); ++i)
+            n += frames[i].health == localization::Health::Ok && (err_m[i] > 0.5 || err_deg[i] > 5.0);
+        return n;
+    }
+    size_t count(localization::Health h) const {
+        size_t n = 0;
+        for (const auto& f : frames) n += f.health == h;
+        return n;
+    }
 };
 
 /// `superloc-localize ini/localize.ini ARGS... --out OUT --quiet` in-process, then DIR's
@@ -41,9 +54,12 @@ inline LocalizeRun localizeAndCompare(const std::vector<std::string>& args, cons
         const auto g = interpolateAt(gt, e.t, max_gap, 1e-3);
         if (!g) {
             ADD_FAILURE() << "no GT at " << e.t;
+            r.err_m.push_back(std::nan("")), r.err_deg.push_back(std::nan(""));
             continue;
         }
         const double d = translationDistance(*g, e.pose);
+        r.err_m.push_back(d);
+        r.err_deg.push_back(rotationAngle(*g, e.pose) * 180 / M_PI);
         se += d * d;
         r.worst_m = std::max(r.worst_m, d);
         r.worst_deg = std::max(r.worst_deg, rotationAngle(*g, e.pose) * 180 / M_PI);

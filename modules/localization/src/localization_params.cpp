@@ -43,10 +43,6 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(min_inlier_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_jump_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_jump_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(recovery_max_yaw_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(recovery_yaw_step_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(recovery_inlier_drop, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(recovery_rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(ndt_resolution, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ndt_step_size, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ndt_epsilon, double, c, s);
@@ -71,12 +67,6 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_deg, "[deg] solved vs predicted rotation: diverged");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(recovery_max_yaw_deg,
-                                 "[deg] no IMU: retry a diverged frame from yaw hypotheses up to this (0: off)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(recovery_yaw_step_deg, "[deg] spacing of those hypotheses");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(recovery_inlier_drop,
-                                 "[-] ...also tried when the inlier ratio falls below this x the last tracked frame's");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(recovery_rounds, "wide rounds per hypothesis (the best is refined)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_resolution, "[m] NDT cell size (method=ndt)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_step_size, "[m] NDT line-search step");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ndt_epsilon, "NDT transformation epsilon");
@@ -106,12 +96,6 @@ void LocalizationParams::validate() const {
         throw ConfigError("[localization] min_inlier_ratio must be in [0, 1]");
     positive(max_jump_xyz, "max_jump_xyz");
     positive(max_jump_deg, "max_jump_deg");
-    if (!(recovery_max_yaw_deg >= 0 && recovery_max_yaw_deg <= 180))
-        throw ConfigError("[localization] recovery_max_yaw_deg must be in [0, 180]");
-    if (recovery_max_yaw_deg > 0) positive(recovery_yaw_step_deg, "recovery_yaw_step_deg");
-    if (!(recovery_inlier_drop >= 0 && recovery_inlier_drop <= 1))
-        throw ConfigError("[localization] recovery_inlier_drop must be in [0, 1]");
-    if (recovery_rounds < 1) throw ConfigError("[localization] recovery_rounds must be >= 1");
     positive(ndt_resolution, "ndt_resolution");
     positive(ndt_step_size, "ndt_step_size");
     positive(ndt_epsilon, "ndt_epsilon");

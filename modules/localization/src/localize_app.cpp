@@ -7,6 +7,8 @@
 #include <superloc/localization/observability_scan.h>
 
 #include <chrono>
+#include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -29,7 +31,7 @@ void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(rawlog, "input rawlog (--rawlog)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(map, "prior map file .pcd/.ply/... (--map)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out, "output folder (--out)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose, "x y z qx qy qz qw of the LiDAR in the map");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose, "x y z qx qy qz qw of the LiDAR in the map, or auto (global search)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose_tum, "TUM file: its pose at the first scan's time is the initial pose");
     MRPT_SAVE_CONFIG_VAR_COMMENT(localized_map_voxel, "[m] voxel of localized_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(save_localized_map, "write localized_map.pcd");
@@ -39,7 +41,7 @@ void RunParams::validate() const {
     if (localized_map_voxel < 0) throw ConfigError("[run] localized_map_voxel must be >= 0");
     if (!initial_pose.empty() && !initial_pose_tum.empty())
         throw ConfigError("[run] give initial_pose or initial_pose_tum, not both");
-    if (!initial_pose.empty()) parsePoseString(initial_pose, "[run] initial_pose");
+    if (!initial_pose.empty() && initial_pose != "auto") parsePoseString(initial_pose, "[run] initial_pose");
 }
 
 SE3d parsePoseString(const std::string& s, const std::string& what) {
@@ -61,7 +63,7 @@ LocalizeApp::LocalizeApp() : mrpt::system::COutputLogger("superloc-localize") {}
 
 std::string LocalizeApp::usage() {
     return "Usage: superloc-localize CONFIG.ini [--rawlog F] [--map F] [--method NAME] [--out DIR]\n"
-           "         [--initial-pose \"x y z qx qy qz qw\" | --initial-pose-tum TUM]\n"
+           "         [--initial-pose \"x y z qx qy qz qw\" | --initial-pose auto | --initial-pose-tum TUM]\n"
            "         [--set section.key=value]... [--dump-config] [--quiet] [--help]\n"
            "Localizes every LiDAR scan of the rawlog in the prior map and writes\n"
            "DIR/trajectory.tum, DIR/frames.csv, DIR/summary.json, DIR/localized_map.pcd,\n"
@@ -151,12 +153,15 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     // Initial pose (T_map_lidar).
     std::optional<SE3d> T0;
     Trajectory T0_tum;  // --initial-pose-tum: interpolated at the first scan's time
-    if (!run_.initial_pose.empty()) T0 = parsePoseString(run_.initial_pose, "--initial-pose");
+    const bool auto_pose = run_.initial_pose == "auto";
+    if (!run_.initial_pose.empty() && !auto_pose) T0 = parsePoseString(run_.initial_pose, "--initial-pose");
     if (!run_.initial_pose_tum.empty()) {
         T0_tum = io::loadTum(run_.initial_pose_tum);
         if (T0_tum.empty()) throw ConfigError(run_.initial_pose_tum + ": no pose in the TUM file");
     }
-    if (!T0 && T0_tum.empty()) MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin");
+    if (!T0 && T0_tum.empty() && !auto_pose)
+        MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin (--initial-pose auto searches "
+                      "the whole map)");
 
     const auto t_map = std::chrono::steady_clock::now();
     auto prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
@@ -165,7 +170,38 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     if (prior->size() == 0) throw ConfigError(run_.map + ": the map has no points");
     Localizer loc(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
-    if (T0) loc.setInitialPose(*T0);
+    if (loc.globalSearch())
+        MRPT_LOG_INFO_FMT("global search grids: %.2f s, %.1f MB", loc.globalSearch()->buildSeconds(),
+                          static_cast<double>(loc.globalSearch()->memoryBytes()) / 1e6);
+    if (auto_pose) {
+        if (!loc.globalSearch())
+            throw ConfigError("--initial-pose auto needs [relocalization] enabled = true");
+        loc.relocalize();
+    }
+    // An initial pose must lie where the map can be seen from: within the map's bounds grown by
+    // the sensor's range. Else a one-line error, or the global search ([relocalization] out_of_map).
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+    for (const auto& p : prior->points()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const auto checkInitial = [&](const SE3d& T, const std::string& what) {
+        const Vec3d t = T.translation();
+        const double range = loc_.features.max_range;
+        const Vec3d l = lo.cast<double>() - Vec3d::Constant(range), h = hi.cast<double>() + Vec3d::Constant(range);
+        const bool finite = t.allFinite() && T.linear().allFinite();
+        if (finite && (t.array() >= l.array()).all() && (t.array() <= h.array()).all()) return true;
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      "%s: position (%.6g, %.6g, %.6g) is outside the prior map %s (bounds [%.1f, %.1f] x [%.1f, %.1f] x "
+                      "[%.1f, %.1f] m grown by features.max_range = %.0f m)",
+                      what.c_str(), t.x(), t.y(), t.z(), run_.map.c_str(), lo.x(), hi.x(), lo.y(), hi.y(), lo.z(),
+                      hi.z(), range);
+        if (loc_.relocalization.out_of_map == "global" && loc.globalSearch()) {
+            MRPT_LOG_WARN_FMT("%s: localizing the first scan by the global search instead", buf);
+            loc.relocalize();
+            return false;
+        }
+        throw ConfigError(std::string(buf) + " (or set relocalization.out_of_map=global)");
+    };
+    if (T0 && checkInitial(*T0, "--initial-pose")) loc.setInitialPose(*T0);
     io::RawlogReader reader(run_.rawlog, rawlog_);
     RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0);
     const bool body = loc_.loc.output_frame == "body";
@@ -197,7 +233,8 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                     if (!at)
                         MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
                                           "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
-                    loc.setInitialPose(at ? *at : T0_tum.front().pose);
+                    const SE3d T_first = at ? *at : T0_tum.front().pose;
+                    if (checkInitial(T_first, run_.initial_pose_tum)) loc.setInitialPose(T_first);
                 }
                 const FrameReport r = loc.process(item.scan());
                 const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
@@ -219,11 +256,6 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
                 summary_.with_prior += r.prior_used;
                 summary_.recovered += r.recovered;
                 summary_.health[static_cast<size_t>(r.health)]++;
-                if (r.recovered)
-                    MRPT_LOG_INFO_FMT("frame %zu (t=%.3f): recovered from a yaw hypothesis, %.1f deg from the "
-                                      "constant-velocity prediction, inlier ratio %.2f",
-                                      r.index, r.t, rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / M_PI * 180,
-                                      r.inlier_ratio);
                 const bool flagged = !r.degenerate_axes.empty();
                 summary_.flagged += flagged;
                 summary_.flagged_without_prior += flagged && !r.prior_used;
@@ -262,8 +294,13 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     if (summary_.gt_matched) summary_.ate_rmse = std::sqrt(se / static_cast<double>(summary_.gt_matched));
     out.finish(summary_);
     obs_scan.write(obs_path);
-    MRPT_LOG_INFO_FMT("%zu frames (%zu diverged), median %.2f ms, p95 %.2f ms per frame -> %s", summary_.frames,
-                      summary_.diverged, summary_.ms_median, summary_.ms_p95, run_.out.c_str());
+    if (summary_.health[2] == summary_.frames)
+        throw std::runtime_error("all " + std::to_string(summary_.frames) + " frames of " + run_.rawlog +
+                                 " are lost: no pose of the scans in " + run_.map +
+                                 " was found (frames.csv health_reason says why per frame)");
+    MRPT_LOG_INFO_FMT("%zu frames (%zu ok, %zu degraded, %zu lost), median %.2f ms, p95 %.2f ms per frame -> %s",
+                      summary_.frames, summary_.health[0], summary_.health[1], summary_.health[2], summary_.ms_median,
+                      summary_.ms_p95, run_.out.c_str());
     const auto& fa = summary_.flagged_axis;
     MRPT_LOG_INFO_FMT(
         "alignment risk: %zu frames flag a degenerate axis (x %zu, y %zu, z %zu, roll %zu, pitch %zu, "

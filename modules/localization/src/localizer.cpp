@@ -409,13 +409,8 @@ FrameReport Localizer::process(const Scan& scan) {
     preprocess(scan, pred, rep);
     rep.ms.preprocess = msSince(t0);
 
-    // Steps 3-5: association, risk, solve. A constant-velocity frame keeps what it started from,
-    // in case it has to be re-solved from yaw hypotheses (step 7, localizer_recovery.cpp).
+    // Steps 3-5: association, risk, solve.
     const auto& lp = params_.loc;
-    const bool may_recover =
-        !first && !pred.used_imu && method_ != Method::Ndt && lp.recovery_max_yaw_deg > 0;
-    std::optional<std::pair<FrameReport, fusion::FrameState>> before_solve;
-    if (may_recover) before_solve.emplace(rep, cur_);
     // Unknown velocity (doc/map.md): the first frame, the second without IMU (no velocity yet),
     // and a constant-velocity prediction over a gap longer than max_cv_gap start coarse, and
     // their solved pose is not checked against the prediction (it may be far off, rightly).
@@ -448,12 +443,6 @@ FrameReport Localizer::process(const Scan& scan) {
 
         // Step 6: report and state update.
         finish(scan, pred, velocity_unknown, rep);
-        if (before_solve &&
-            (rep.diverged || rep.inlier_ratio < lp.recovery_inlier_drop * last_tracked_inlier_ratio_)) {
-            const auto t_rec = Clock::now();
-            recoverFromYawHypotheses(scan, pred, before_solve->first, before_solve->second, rep);
-            rep.ms.solve += msSince(t_rec);
-        }
         assess(rep);
     }
     // Step 7 (doc/health.md): lost for local_after_lost frames searches around the last pose not
@@ -468,15 +457,18 @@ FrameReport Localizer::process(const Scan& scan) {
     // After such a frame the search could not settle, the frames that follow are not `ok` before
     // a search confirms them: tracking from a doubtful pose can settle in a wrong basin and fit
     // as well as a right one (kitti00-mini split: 1.1 m along the road, converged).
-    const bool in_doubt = rep.health_reason.find("inliers") != std::string::npos ||
-                          rep.health_reason.find("not_converged") != std::string::npos;
+    const bool bad_fit = rep.health_reason.find("inliers") != std::string::npos;
+    const bool in_doubt = bad_fit || rep.health_reason.find("not_converged") != std::string::npos;
     const bool unconfirmed = search_ && doubt_ && rep.health == Health::Ok;
     if (unconfirmed) {
         rep.health = Health::Degraded;
         rep.health_reason = "unconfirmed";
     }
     const bool weak_translation = (rep.gamma.head<3>().array() < params_.health.weak_gamma).any();
-    const bool suspicious = rep.health == Health::Degraded && (in_doubt || unconfirmed) && !weak_translation;
+    // A frame that fits clearly worse is searched whatever its risk says (its gamma was measured
+    // at a pose that may be wrong); one only unsettled is not where the scan leaves a translation
+    // unconstrained (a corridor: the search could not tell the places along it apart).
+    const bool suspicious = rep.health == Health::Degraded && (bad_fit || ((in_doubt || unconfirmed) && !weak_translation));
     if (search_ && !searched && (lost_run_ >= rp.local_after_lost || suspicious)) {
         const bool global = lost_run_ >= rp.global_after_lost || !last_good_T_map_lidar_;
         reloc::SearchRegion region;
@@ -508,7 +500,6 @@ FrameReport Localizer::process(const Scan& scan) {
         last_good_T_map_lidar_ = rep.T_map_lidar;
         last_good_t_ = scan.t;
     }
-    if (!rep.diverged) last_tracked_inlier_ratio_ = rep.inlier_ratio;
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;

@@ -77,7 +77,8 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         r.pred_ddeg = rotationAngle(r.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
         std::string why;
         const Health h = health_.classify(r, &why);
-        const bool fits = r.converged && h != Health::Lost && (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
+        const bool fits =
+            !health_.notConverged(r) && h != Health::Lost && (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
         if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
     }
     verifying_ = false;

@@ -44,17 +44,6 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     double max_jump_xyz = 1.0;         ///< [m] solved vs predicted pose farther: diverged
     double max_jump_deg = 10.0;        ///< [deg] idem for the rotation
 
-    // Recovery without IMU: when a frame predicted at constant velocity diverges, or its inlier
-    // ratio falls below recovery_inlier_drop x that of the last tracked frame, the solve is
-    // retried from yaw hypotheses around the prediction and around the previous pose (every
-    // recovery_yaw_step_deg up to +-recovery_max_yaw_deg; recovery_rounds wide rounds each,
-    // the best one then refined with rounds_init) and kept if it has more inliers and passes
-    // the inlier check. recovery_max_yaw_deg = 0 disables.
-    double recovery_max_yaw_deg = 90.0;
-    double recovery_yaw_step_deg = 15.0;
-    double recovery_inlier_drop = 0.8;
-    int recovery_rounds = 8;
-
     // method = ndt (PCL NormalDistributionsTransform as the registration step)
     double ndt_resolution = 1.0;       ///< [m] NDT cell size
     double ndt_step_size = 0.1;        ///< [m] More-Thuente line-search max step

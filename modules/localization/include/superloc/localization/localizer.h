@@ -102,12 +102,6 @@ class Localizer : public mrpt::system::COutputLogger {
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
-    /// Recovery of a diverged constant-velocity frame (LocalizationParams::recovery_*): re-solves
-    /// from yaw hypotheses, starting each from `base` / `start` (the frame before its solve);
-    /// when one passes, replaces rep and the state with it and returns true, else leaves both
-    /// as the frame's own solve left them.
-    bool recoverFromYawHypotheses(const Scan& scan, const Prediction& pred, const FrameReport& base,
-                                  const fusion::FrameState& start, FrameReport& rep);
     /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
     /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
     /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
@@ -134,7 +128,6 @@ class Localizer : public mrpt::system::COutputLogger {
 
     LocalizerParams params_;
     Method method_;
-    double last_tracked_inlier_ratio_ = 0;  ///< inlier ratio of the last frame not diverged
     HealthMonitor health_;
     std::unique_ptr<reloc::GlobalSearch> search_;
     bool reloc_pending_ = false;                 ///< relocalize() was called: the next scan searches

@@ -23,7 +23,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     double local_yaw_deg = 180;   ///< [deg] half width of its yaw interval (180: any yaw)
     int verify_hypotheses = 3;    ///< best hypotheses verified by fine registration
     /// [-] with no reference inlier ratio yet (initial pose auto): a verified pose needs this
-    double accept_inlier_ratio = 0.5;
+    double accept_inlier_ratio = 0.35;
     /// [-] a second verified pose elsewhere with at least this x the winner's inlier ratio: ambiguous
     double ambiguity_ratio = 0.9;
     double distinct_xyz = 2.0;    ///< [m] verified poses farther apart than this are distinct...

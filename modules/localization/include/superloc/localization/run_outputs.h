@@ -33,7 +33,7 @@ struct RunSummary {
     std::string method;
     size_t frames = 0, diverged = 0, converged = 0, used_imu = 0;
     size_t with_prior = 0;               ///< frames whose solve had an odom_alt prior
-    size_t recovered = 0;                ///< frames re-solved from a yaw hypothesis (no IMU)
+    size_t recovered = 0;                ///< frames replaced by a verified relocalization
     std::array<size_t, 3> health{};      ///< frames ok, degraded, lost
     size_t flagged = 0;                  ///< frames with at least one degenerate axis
     size_t flagged_without_prior = 0;    ///< of those, frames solved without a prior
