@@ -58,14 +58,14 @@ inline RealSplit prepareRealSplit(const std::string& name, const std::string& da
 
 /// The scans `scans` of a rawlog with their GT poses (interpolated at each scan's time).
 inline void readScans(const std::string& rawlog, const std::string& scans, const Trajectory& gt,
-                      std::vector<Scan>& out, std::vector<SE3d>& T_gt) {
+                      std::vector<Scan>& out, std::vector<SE3d>& T_gt, double max_gap = 1.0) {
     io::RawlogParams rp;
     rp.scans = scans;
     io::RawlogReader r(rawlog, rp);
     io::RawlogItem it;
     while (r.next(it))
         if (it.kind == io::RawlogItem::Kind::Lidar) {
-            const auto g = interpolateAt(gt, it.scan().t, 1.0, 1e-3);
+            const auto g = interpolateAt(gt, it.scan().t, max_gap, 1e-3);
             if (!g) continue;
             out.push_back(it.scan());
             T_gt.push_back(*g);

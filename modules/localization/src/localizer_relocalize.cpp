@@ -59,6 +59,10 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
     std::vector<Outcome> verified;
     t0 = Clock::now();
     verifying_ = true;
+    // Verified coarse to fine in the voxel map whatever the tracking association (doc/map.md):
+    // its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps, and it is fast.
+    const bool tracking_voxel = assoc_.voxel;
+    assoc_.voxel = true;
     const size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
     const double ref = health_.reference();
     for (size_t i = 0; i < n; ++i) {
@@ -82,6 +86,7 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
     }
     verifying_ = false;
+    assoc_.voxel = tracking_voxel;
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
     const auto restore = [&](const Outcome& o) {
