@@ -12,6 +12,7 @@
 #include <superloc/localization/localizer.h>
 
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "real_split.h"
@@ -100,4 +101,61 @@ TEST(GlobalLocalization, KittiEveryScanOnItsOwnBothWays) {
     EXPECT_EQ(a.total() + b.total(), 16);
     EXPECT_EQ(a.accepted_wrong + b.accepted_wrong, 0);
     EXPECT_GE(a.accepted_right + b.accepted_right, 15) << "15 of 16 measured";
+}
+
+// A kidnap on real data: campus-ouster's odd scans 0-9, then (2 s later, as if the next scan)
+// odd scans 18-25: the walker is carried 11.9 m and turned 103 deg between two scans. The map
+// holds the even scans only. The kidnap must be detected (a lost frame) within 3 frames, the
+// pose found again within 10, and no frame in between reported ok while more than 0.5 m off.
+TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
+    SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
+    const auto s = superloc::testing::prepareRealSplit("gloc_kidnap_campus", "campus-ouster", "even", 0.1);
+    ASSERT_TRUE(s.ok);
+    std::vector<Scan> odd;
+    std::vector<SE3d> T_odd;
+    superloc::testing::readScans(s.rawlog, "odd", io::loadTum(s.gt_tum), odd, T_odd, 2.5);
+    ASSERT_EQ(odd.size(), 26u);
+    std::vector<Scan> scans;
+    std::vector<SE3d> T_gt;
+    for (size_t i = 0; i < 10; ++i) scans.push_back(odd[i]), T_gt.push_back(T_odd[i]);
+    const double shift = odd[9].t + 2.0 - odd[18].t;
+    for (size_t i = 18; i < 26; ++i) {
+        scans.push_back(odd[i]);
+        scans.back().t += shift;
+        T_gt.push_back(T_odd[i]);
+    }
+    const size_t k = 10;  // the first frame after the kidnap
+    ASSERT_GT(translationDistance(T_gt[k - 1], T_gt[k]), 5.0);
+    ASSERT_GT(rotationAngle(T_gt[k - 1], T_gt[k]), M_PI / 2);
+
+    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(s.map, map::MapParams{}));
+    Localizer loc(defaultParams({"features.deskew=false"}), map);
+    loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    loc.setInitialPose(T_gt[0]);
+    std::optional<size_t> detected, recovered;
+    for (size_t i = 0; i < scans.size(); ++i) {
+        const FrameReport r = loc.process(scans[i]);
+        const double dm = translationDistance(r.T_map_lidar, T_gt[i]);
+        const double dd = rotationAngle(r.T_map_lidar, T_gt[i]) * 180 / M_PI;
+        std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") " << r.reloc.mode
+                  << " " << r.reloc.trigger << " " << r.reloc.result << ", " << dm << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
+        if (r.health == Health::Ok) {
+            EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
+        }
+        if (i < k) {
+            EXPECT_LT(dm, 0.1) << "frame " << i << " before the kidnap";
+        }
+        // Detected: the frame was lost (and then relocalized, or not).
+        if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
+        if (i >= k && !recovered && r.reloc.result == "accepted" && dm < 0.3 && dd < 3.0) recovered = i;
+        if (recovered && i > *recovered) {
+            EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
+        }
+    }
+    ASSERT_TRUE(detected.has_value()) << "the kidnap was never detected";
+    EXPECT_LE(*detected, k + 2);
+    ASSERT_TRUE(recovered.has_value()) << "never relocalized";
+    EXPECT_LE(*recovered, k + 9);
+    std::cout << "campus kidnap (11.9 m, 103 deg): detected at frame " << *detected - k << ", relocalized at frame "
+              << *recovered - k << " after it\n";
 }

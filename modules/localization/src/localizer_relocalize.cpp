@@ -24,6 +24,7 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
     const auto& rp = params_.relocalization;
     RelocReport rr;
     rr.mode = region ? "local" : "global";
+    rr.trigger = reloc_pending_ ? "request" : rep.health == Health::Lost ? "lost" : "doubt";
     rr.result = "failed";
 
     // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from

@@ -23,7 +23,7 @@ std::string framesCsvHeader() {
            "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
            "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered,"
            "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg,"
-           "reloc_mode,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg";
+           "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg";
 }
 
 std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
@@ -71,7 +71,7 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
     add("%.3f", r.pred_ddeg);
     std::string detail = r.reloc.detail;  // free text: no commas in a CSV cell
     std::replace(detail.begin(), detail.end(), ',', ';');
-    s += ',' + r.reloc.mode + ',' + r.reloc.result + ',' + detail;
+    s += ',' + r.reloc.mode + ',' + r.reloc.trigger + ',' + r.reloc.result + ',' + detail;
     add("%d", r.reloc.hypotheses);
     add("%d", r.reloc.verified);
     add("%.2f", r.reloc.search_ms + r.reloc.verify_ms);

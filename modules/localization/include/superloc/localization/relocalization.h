@@ -40,6 +40,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
 /// What a relocalization did on a frame (FrameReport::reloc).
 struct RelocReport {
     std::string mode;     ///< "" none, "local" (around the last pose), "global" (whole map)
+    std::string trigger;  ///< "request" (relocalize()), "lost", "doubt" (degraded, in doubt)
     std::string result;   ///< "accepted", "ambiguous", "failed"
     std::string detail;   ///< why not accepted ("no_hypothesis", "ambiguous_x", "verification", ...)
     int hypotheses = 0;   ///< proposed by the search
