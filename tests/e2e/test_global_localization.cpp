@@ -13,6 +13,8 @@
 
 #include <fstream>
 #include <optional>
+#include <filesystem>
+#include <cstdlib>
 #include <sstream>
 
 #include "real_split.h"
@@ -158,4 +160,45 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
     EXPECT_LE(*recovered, k + 9);
     std::cout << "campus kidnap (11.9 m, 103 deg): detected at frame " << *detected - k << ", relocalized at frame "
               << *recovered - k << " after it\n";
+}
+
+// The paper's point, for relocalization: inside a 150 m corridor with nothing along its axis a
+// scan fits anywhere along x, so no pose may be committed: every scan from inside is reported
+// ambiguous (verified alternatives along the corridor, or x weakly constrained), never placed.
+TEST(GlobalLocalization, FeaturelessCorridorIsAmbiguousNotPlaced) {
+    namespace fs = std::filesystem;
+    const std::string dir = superloc::testing::freshDir("gloc_corridor");
+    const std::string sim = std::string(SUPERLOC_BINARY_DIR) + "/bin/superloc-sim";
+    if (!fs::exists(sim)) GTEST_SKIP() << "superloc-sim not built";
+    const std::string cmd = sim + " " + superloc::testing::sourcePath("ini/sim/corridor.ini") + " --out " + dir +
+                            " --set corridor.length=150 --set corridor.recesses=0 --set sim.duration=12"
+                            " --set lidar.preset=../sensors/vlp16.ini > " + dir + "/sim.log 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const Trajectory gt = io::loadTum(dir + "/gt_tum.txt");
+    io::RawlogReader reader(dir + "/sequence.rawlog", io::RawlogParams{});
+    io::RawlogItem it;
+    std::vector<Scan> scans;
+    std::vector<SE3d> T_gt;
+    int n = 0;
+    while (reader.next(it))
+        if (it.kind == io::RawlogItem::Kind::Lidar && it.scan().t - gt.front().t > 3.0 && n++ % 15 == 0) {
+            const auto g = interpolateAt(gt, it.scan().t, 0.5, 1e-3);
+            if (g) scans.push_back(it.scan()), T_gt.push_back(*g);
+        }
+    ASSERT_GE(scans.size(), 5u);
+    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(dir + "/prior_map.pcd", map::MapParams{}));
+    int ambiguous = 0;
+    for (size_t i = 0; i < scans.size(); ++i) {
+        Localizer loc(defaultParams({}), map);
+        loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        loc.relocalize();
+        const FrameReport r = loc.process(scans[i]);
+        std::cout << "corridor scan at x = " << T_gt[i].translation().x() << ": " << r.reloc.result << " ("
+                  << r.reloc.detail << "), " << r.reloc.hypotheses << " hypotheses, " << r.reloc.verified
+                  << " verified, " << r.ms.total << " ms\n";
+        EXPECT_NE(r.reloc.result, "accepted") << "scan " << i;
+        EXPECT_EQ(r.health, Health::Lost) << "scan " << i;
+        ambiguous += r.reloc.result == "ambiguous";
+    }
+    EXPECT_GE(ambiguous, static_cast<int>(scans.size()) - 1) << "reported ambiguous (not just failed)";
 }
