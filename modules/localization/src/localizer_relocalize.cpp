@@ -74,6 +74,15 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         cur_.setPose(T_start);
         FrameReport r = base;
         solveIcp(nullptr, true, r);
+        if (!tracking_voxel) {
+            // Inliers measured as tracking measures them, so that the verified poses compare
+            // with the frame's own solve (the two associations count inliers differently).
+            assoc_.voxel = false;
+            const auto ta = Clock::now();
+            associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+            r.ms.associate += msSince(ta);
+            assoc_.voxel = true;
+        }
         Prediction p = pred;
         p.T_map_imu = T_start;
         p.used_imu = false;
