@@ -1,0 +1,82 @@
+// Health checks (doc/health.md) on hand-made frame reports: each check alone, the reference.
+#include <gtest/gtest.h>
+#include <superloc/localization/frame_report.h>
+#include <superloc/localization/health.h>
+
+using namespace superloc;
+using namespace superloc::localization;
+
+namespace {
+FrameReport tracked(double inliers) {
+    FrameReport r;
+    r.converged = true;
+    r.gamma = Vec6d::Constant(0.8);
+    r.inlier_ratio = inliers;
+    return r;
+}
+}  // namespace
+
+TEST(Health, EachCheckAlone) {
+    HealthMonitor h;
+    FrameReport r = tracked(0.9);
+    EXPECT_EQ(h.classify(r), Health::Ok);
+    std::string why;
+    r.diverged = true;
+    r.diverged_reason = "no_correspondences";
+    EXPECT_EQ(h.classify(r, &why), Health::Lost);
+    EXPECT_EQ(why, "no_correspondences");
+    r.diverged_reason = "jump_rejected";  // the IMU prediction was kept: degraded, not lost
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    r = tracked(0.9);
+    r.converged = false;
+    r.last_step_xyz = 0.005;  // out of rounds but settling: fine
+    EXPECT_EQ(h.classify(r), Health::Ok);
+    r.last_step_xyz = 0.05;   // still moving
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(why, "not_converged");
+    r = tracked(0.9);
+    r.gamma[0] = 0.25;  // below weak_gamma 0.3 (not yet flagged by the risk's 0.2)
+    r.gamma[5] = 0.1;
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(why, "weak_x_yaw");
+    r = tracked(0.9);
+    r.used_imu = true;
+    r.pred_dxyz = 0.5;
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(why, "prediction");
+    r.used_imu = false;  // a constant-velocity prediction may be far off rightly
+    EXPECT_EQ(h.classify(r), Health::Ok);
+}
+
+TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
+    HealthMonitor h;
+    FrameReport r = tracked(0.5);
+    // No reference yet: a low inlier ratio alone is not judged.
+    EXPECT_EQ(h.classify(r), Health::Ok);
+    for (double v : {0.9, 0.92, 0.88, 0.91}) {
+        FrameReport t = tracked(v);
+        h.assess(t);
+        EXPECT_EQ(t.health, Health::Ok);
+    }
+    EXPECT_NEAR(h.reference(), 0.91, 1e-9);  // median of 0.88 0.9 0.91 0.92 (upper middle)
+    std::string why;
+    EXPECT_EQ(h.classify(tracked(0.85)), Health::Ok);                   // > 0.9 x 0.91
+    EXPECT_EQ(h.classify(tracked(0.7), &why), Health::Degraded);        // < 0.9 x, > 0.6 x
+    EXPECT_EQ(why, "inliers");
+    EXPECT_EQ(h.classify(tracked(0.5), &why), Health::Lost);            // < 0.6 x 0.91
+    // A degraded frame does not pull the reference down.
+    FrameReport low = tracked(0.7);
+    h.assess(low);
+    EXPECT_EQ(low.health, Health::Degraded);
+    EXPECT_NEAR(h.reference(), 0.91, 1e-9);
+}
+
+TEST(Health, ParamsValidate) {
+    HealthParams p;
+    EXPECT_NO_THROW(p.validate());
+    p.lost_inlier_drop = 0.95;  // above degraded_inlier_drop
+    EXPECT_ANY_THROW(p.validate());
+    p = HealthParams{};
+    p.weak_gamma = 1.5;
+    EXPECT_ANY_THROW(p.validate());
+}
