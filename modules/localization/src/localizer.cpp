@@ -499,6 +499,15 @@ FrameReport Localizer::process(const Scan& scan) {
     if (rep.health != Health::Lost) {
         last_good_T_map_lidar_ = rep.T_map_lidar;
         last_good_t_ = scan.t;
+        good_state_ = cur_;
+    } else if (good_state_ && search_) {
+        // A lost frame's state is not carried: its pose, and the velocity an IMU factor made
+        // of it, would drive every later prediction (multifloor ndt ran away to kilometres).
+        // Tracking resumes from the last frame not lost, at rest, velocity unknown.
+        cur_ = *good_state_;
+        cur_.t = scan.t;
+        cur_.setVelocity(Vec3d::Zero());
+        restart_ = true;
     }
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;

@@ -148,6 +148,16 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         report(rep);
         return false;
     }
+    if (rep.health != Health::Lost && !reloc_pending_ &&
+        (translationDistance(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_xyz ||
+         rotationAngle(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_deg * kDeg)) {
+        // A frame only in doubt is corrected, not moved to another place: a pose that far from
+        // its own solve is another floor or another corridor (multifloor: 3 m up a stairwell).
+        restore(own);
+        rr.detail = "too_far";
+        report(rep);
+        return false;
+    }
     if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
         // The frame's own solve stands (a suspicious frame the search could not better).
         restore(own);

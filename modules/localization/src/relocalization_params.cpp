@@ -16,6 +16,8 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(ambiguity_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(distinct_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(distinct_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(doubt_max_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(doubt_max_deg, double, c, s);
     out_of_map = c.read_string(s, "out_of_map", out_of_map);
 }
 
@@ -31,6 +33,8 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(ambiguity_ratio, "[-] another verified pose this x as good: ambiguous");
     MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_xyz, "[m] verified poses farther apart are distinct");
     MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_deg, "[deg] ...or rotated more than this");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_xyz, "[m] a frame in doubt takes a verified pose only within this");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_deg, "[deg] ...and within this rotation");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out_of_map, "initial pose outside the map: error | global");
 }
 
@@ -49,6 +53,8 @@ void RelocalizationParams::validate() const {
         throw ConfigError("[relocalization] ambiguity_ratio must be in (0, 1]");
     if (!(distinct_xyz > 0) || !(distinct_deg > 0))
         throw ConfigError("[relocalization] distinct_xyz and distinct_deg must be > 0");
+    if (!(doubt_max_xyz > 0) || !(doubt_max_deg > 0))
+        throw ConfigError("[relocalization] doubt_max_xyz and doubt_max_deg must be > 0");
     if (out_of_map != "error" && out_of_map != "global")
         throw ConfigError("[relocalization] out_of_map = '" + out_of_map + "' (use error or global)");
 }

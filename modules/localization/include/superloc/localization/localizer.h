@@ -135,6 +135,7 @@ class Localizer : public mrpt::system::COutputLogger {
     int lost_run_ = 0;                           ///< consecutive lost frames
     std::optional<SE3d> last_good_T_map_lidar_;  ///< last frame not lost
     double last_good_t_ = 0;
+    std::optional<fusion::FrameState> good_state_;  ///< state of the last frame not lost
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     bool doubt_ = false;       ///< a frame in doubt was not settled by a search: confirm the next
     bool verifying_ = false;   ///< solving from a hypothesis: no odom_alt prior, no remap
