@@ -110,20 +110,43 @@ TEST_F(KittiFixture, EveryScanLocalizedFromPerturbedStart) {
     std::cout << "kitti00-mini from perturbed start: ATE " << app.summary().ate_rmse << " m\n";
 }
 
-TEST_F(KittiFixture, FarInitialPoseWritesValidJson) {
-    // 1e300 m away from the map: nothing associates, the ATE against the rawlog's GT overflows to
-    // inf, and summary.json must still be JSON (null there, with a warning).
+TEST_F(KittiFixture, FarInitialPoseIsAnErrorOrAGlobalStart) {
+    // 1e300 m away from the map: a one-line error naming the pose and the map's bounds...
+    {
+        LocalizeApp app;
+        ASSERT_EQ(init(app, {"--out", dir + "/out-far", "--initial-pose", "1e300 1e300 0 0 0 0 1"}),
+                  LocalizeApp::Action::Run);
+        try {
+            app.run();
+            ADD_FAILURE() << "no error for an initial pose 1e300 m away";
+        } catch (const ConfigError& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("outside the prior map"), std::string::npos) << msg;
+            EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+        }
+    }
+    // ...or, with out_of_map = global, the first scan localized by the global search. The map
+    // holds every scan here (a sanity check of the plumbing, not an accuracy figure: the honest
+    // numbers are GlobalLocalization.*).
     LocalizeApp app;
-    const std::string out = dir + "/out-far";
-    ASSERT_EQ(init(app, {"--out", out, "--initial-pose", "1e300 1e300 0 0 0 0 1"}),
+    const std::string out = dir + "/out-far-global";
+    ASSERT_EQ(init(app, {"--out", out, "--initial-pose", "1e300 1e300 0 0 0 0 1", "--set",
+                         "relocalization.out_of_map=global"}),
               LocalizeApp::Action::Run);
     app.run();
+    // Measured: with this INI the first 7 scans leave x weakly constrained (gamma_x < 0.3): each
+    // is reported lost (ambiguous, weak_x) and the next one searches again; scan 7 is accepted
+    // 3 cm off and the rest tracked within 2.5 cm.
     EXPECT_EQ(app.summary().frames, 16u);
-    EXPECT_FALSE(std::isfinite(app.summary().ate_rmse));
     std::ifstream js(out + "/summary.json");
-    const auto summary = nlohmann::json::parse(js);  // throws on inf/nan
-    EXPECT_TRUE(summary["ate_rmse_vs_rawlog_gt"].is_null());
+    const auto summary = nlohmann::json::parse(js);
     EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
+    EXPECT_LE(summary["frames_health"]["lost"].get<size_t>(), 8u);
+    EXPECT_GE(summary["frames_health"]["ok"].get<size_t>(), 7u);
+    const Trajectory est = io::loadTum(out + "/trajectory.tum"), truth = io::loadTum(gt);
+    ASSERT_EQ(est.size(), 16u);
+    for (size_t i = 9; i < 16; ++i)
+        EXPECT_LT(translationDistance(est[i].pose, truth[i].pose), 0.1) << "frame " << i;
 }
 
 TEST_F(KittiFixture, CommandLineContract) {

@@ -432,7 +432,7 @@ FrameReport Localizer::process(const Scan& scan) {
         rep.diverged = true;
         rep.diverged_reason = "no_pose";
         const bool ok = runRelocalization(scan, pred, reloc_region_ ? &*reloc_region_ : nullptr, rep);
-        if (ok) reloc_pending_ = false;
+        if (ok) reloc_pending_ = false, doubt_ = false;
         assess(rep);
     } else {
         if (method_ == Method::Ndt) {

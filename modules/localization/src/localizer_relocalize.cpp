@@ -148,11 +148,12 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         report(rep);
         return false;
     }
-    if (rep.health != Health::Lost && !reloc_pending_ &&
+    if (rep.health != Health::Lost && !reloc_pending_ && pred.used_imu &&
         (translationDistance(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_xyz ||
          rotationAngle(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_deg * kDeg)) {
-        // A frame only in doubt is corrected, not moved to another place: a pose that far from
-        // its own solve is another floor or another corridor (multifloor: 3 m up a stairwell).
+        // A frame only in doubt, predicted by the IMU, is corrected, not moved to another place:
+        // a pose that far from its own solve is another floor or another corridor (multifloor:
+        // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus).
         restore(own);
         rr.detail = "too_far";
         report(rep);

@@ -28,7 +28,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     double ambiguity_ratio = 0.9;
     double distinct_xyz = 2.0;    ///< [m] verified poses farther apart than this are distinct...
     double distinct_deg = 20.0;   ///< [deg] ...or rotated more than this
-    /// a frame searched because it was in doubt (not lost) takes a verified pose only within
+    /// a frame searched because it was in doubt (not lost), with an IMU prediction, takes a verified pose only within
     /// this of its own solve: a correction, not a move to another place
     double doubt_max_xyz = 1.5;   ///< [m]
     double doubt_max_deg = 15.0;  ///< [deg]
