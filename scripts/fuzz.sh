@@ -51,7 +51,7 @@ for t in "${TARGETS[@]}"; do
   echo "== $t: ${SECONDS_PER_TARGET} s"
   rc=0
   max_len=8192
-  case $t in db3|mcap|ros1) max_len=32768 ;; esac   # a bag's smallest real file is a few kB
+  case $t in db3|mcap|ros1) max_len=65536 ;; esac   # a bag's smallest real file is a few kB
   $B/fuzz/superloc-fuzz-$t $B/corpus/$t $B/seeds/$t \
     -max_total_time="$SECONDS_PER_TARGET" -max_len=$max_len -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix=$B/artifacts/$t/ > $B/logs/$t.log 2>&1 || rc=$?

@@ -25,7 +25,7 @@ namespace bw = superloc::testing::bag;
 
 namespace {
 
-constexpr size_t kPoints = 40;
+constexpr size_t kPoints = 40;  ///< points per scan (ROS 1 seeds: 16, its chunks are larger)
 
 std::vector<uint8_t> slurp(const std::string& path, size_t n) {
     std::ifstream in(path, std::ios::binary);
@@ -106,7 +106,7 @@ void writeRos1(const std::string& path, const std::string& data, uint32_t compre
         sensor_msgs::PointCloud2 pc;
         pc.header.stamp = t(k);
         pc.header.frame_id = "velodyne";
-        pc.data = slurp(data + name, kPoints * 16);
+        pc.data = slurp(data + name, 16 * 16);
         pc.height = 1;
         pc.width = uint32_t(pc.data.size() / 16);
         pc.point_step = 16;

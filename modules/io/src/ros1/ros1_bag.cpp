@@ -80,7 +80,10 @@ class Ros1Message : public BagMessage {
     }
     std::vector<TransformMsg> tfMessage() const override {
         std::vector<TransformMsg> out;
-        for (const auto& x : instantiate<tf2_msgs::TFMessage>()->transforms) {
+        // Hold the message: a range-for over `instantiate<>()->transforms` would iterate a
+        // vector freed with its temporary shared_ptr (found by fuzz_ros1 on its seeds).
+        const auto msg = instantiate<tf2_msgs::TFMessage>();
+        for (const auto& x : msg->transforms) {
             const auto& t = x.transform.translation;
             const auto& q = x.transform.rotation;
             out.push_back({x.header.frame_id, x.child_frame_id,
