@@ -162,3 +162,37 @@ TEST(MrptMaps, PointsMapFilesBothWays) {
         }
     }
 }
+
+// The apps: superloc-map --simplemap, and superloc-localize --map X.simplemap localizing the
+// same 4 KITTI scans (a circular sanity check: the map holds those scans, DESIGN §8).
+TEST(MrptMaps, AppsTakeASimpleMap) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini");
+    const std::string map_exe = superloc::testing::appPath("superloc-map");
+    const std::string loc_exe = superloc::testing::appPath("superloc-localize");
+    if (!std::filesystem::exists(map_exe) || !std::filesystem::exists(loc_exe))
+        GTEST_SKIP() << "superloc-map / superloc-localize not built";
+    const auto dir = superloc::testing::freshDir("mrpt_simplemap_apps");
+    writeSimpleMap(dir + "/k.simplemap");
+    const auto kitti = superloc::testing::sharedData("kitti00-mini");
+    const auto run = [&](const std::string& cmd) {
+        return std::system((cmd + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
+    };
+    ASSERT_EQ(run(map_exe + " --simplemap " + dir + "/k.simplemap --voxel 0.2 --no-normals --out " +
+                  dir + "/m.pcd"), 0);
+    EXPECT_GT(io::loadPointCloud(dir + "/m.pcd").size(), 50000u);
+    EXPECT_NE(run(map_exe + " --simplemap " + dir + "/k.simplemap --out " + dir + "/m.simplemap"), 0);
+    io::importKitti(kitti, "", "", dir + "/k.rawlog");
+    ASSERT_EQ(run(loc_exe + " " + superloc::testing::sourcePath("ini/localize-kitti.ini") +
+                  " --rawlog " + dir + "/k.rawlog --map " + dir + "/k.simplemap" +
+                  " --initial-pose-tum " + kitti + "/gt_velodyne_tum.txt --set rawlog.scans=0:4" +
+                  " --out " + dir + "/run --quiet"), 0);
+    const auto est = io::loadTum(dir + "/run/trajectory.tum");
+    const auto gt = io::loadTum(kitti + "/gt_velodyne_tum.txt");
+    ASSERT_EQ(est.size(), kScans);
+    double max_err = 0;
+    for (size_t i = 0; i < kScans; ++i)
+        max_err = std::max(max_err, translationDistance(est[i].pose, gt[i].pose));
+    std::cout << "[ simplemap ] superloc-localize --map k.simplemap: max error " << max_err
+              << " m over " << kScans << " scans\n";
+    EXPECT_LT(max_err, 0.1);
+}
