@@ -92,8 +92,13 @@ class Db3Bag : public BagSource {
     };
 
     [[noreturn]] void fail(const std::string& what) const {
-        throw std::runtime_error(path_ + ": ROS 2 bag (SQLite): " + what + ": " +
-                                 (db_ ? sqlite3_errmsg(db_) : "out of memory"));
+        // SQLite's messages may quote schema text with line breaks (found by fuzz_db3): keep
+        // the error one line.
+        std::string msg = db_ ? sqlite3_errmsg(db_) : "out of memory";
+        for (char& c : msg)
+            if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+        if (msg.size() > 200) msg = msg.substr(0, 200) + "...";
+        throw std::runtime_error(path_ + ": ROS 2 bag (SQLite): " + what + ": " + msg);
     }
 
     static std::string text(sqlite3_stmt* st, int col) {

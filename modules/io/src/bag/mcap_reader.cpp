@@ -179,7 +179,8 @@ class McapBag : public BagSource {
     /// Schema, channel or message (others are skipped); false when the visit should end.
     bool readRecord(uint8_t op, const uint8_t* p, uint64_t len, const std::string& where,
                     const MessageFn& on_message, std::vector<Pending>* pending) {
-        Fields f(p, len, where);
+        const std::string full = path_ + ": MCAP: " + where;
+        Fields f(p, len, full);
         if (op == 0x03) {
             const auto id = f.num<uint16_t>("schema id");
             const std::string name = f.str("schema name");
@@ -221,7 +222,8 @@ class McapBag : public BagSource {
     }
 
     bool readChunk(const std::string& where, const MessageFn& on_message, const ChunkFn& on_chunk) {
-        Fields f(record_.data(), record_.size(), where);
+        const std::string full = path_ + ": MCAP: " + where;
+        Fields f(record_.data(), record_.size(), full);
         f.num<uint64_t>("chunk message_start_time");
         f.num<uint64_t>("chunk message_end_time");
         const auto usize = f.num<uint64_t>("chunk uncompressed_size");
@@ -230,7 +232,7 @@ class McapBag : public BagSource {
         const auto csize = f.num<uint64_t>("chunk records length");
         const uint8_t* src = f.take(csize, "chunk records");
         const std::string cwhere = path_ + ": MCAP: chunk (" + where + ", compression '" +
-                                   compression + "')";
+                                   printable(compression) + "')";
         if (compression != "" && compression != "zstd" && compression != "lz4")
             throw std::runtime_error(cwhere + ": unknown compression (known: '', zstd, lz4)");
         if (usize > kMaxChunk || (compression != "" && usize > csize * 4096 + (1 << 20)))

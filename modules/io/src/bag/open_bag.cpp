@@ -59,15 +59,36 @@ std::unique_ptr<BagSource> openBag(const std::string& path_in) {
 
 }  // namespace detail
 
+namespace {
+
+/// Names read from a bag (topics, frames, fields, compression, a library's message quoting
+/// them) can hold line breaks: the error that leaves the bag API is kept to one line.
+template <class F>
+auto oneLineErrors(F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const std::runtime_error& e) {
+        const std::string what = e.what();
+        if (what.find_first_of("\n\r") == std::string::npos) throw;
+        std::string line;
+        for (const char c : what) line += (c == '\n' ? "\\n" : c == '\r' ? "\\r" : std::string(1, c));
+        throw std::runtime_error(line);
+    }
+}
+
+}  // namespace
+
 std::vector<BagTopic> listRosbag(const std::string& bag) {
-    return detail::listBag(*detail::openBag(bag));
+    return oneLineErrors([&] { return detail::listBag(*detail::openBag(bag)); });
 }
 
 RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& params,
                                 const std::string& out_rawlog, const ProgressFn& progress,
                                 const ImportExtras& extras) {
     params.validate();
-    return detail::importBag(*detail::openBag(bag), params, out_rawlog, progress, extras);
+    return oneLineErrors([&] {
+        return detail::importBag(*detail::openBag(bag), params, out_rawlog, progress, extras);
+    });
 }
 
 }  // namespace superloc::io

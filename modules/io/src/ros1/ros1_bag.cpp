@@ -10,6 +10,8 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <fstream>
+#include <functional>
 #include <map>
 #include <stdexcept>
 
@@ -106,9 +108,115 @@ class Ros1Message : public BagMessage {
     mutable boost::shared_ptr<const void> keep_;
 };
 
+/// rosbag_storage trusts the lengths in the file: a record header length of 2 GB makes it
+/// allocate 2 GB, an index position inside a record makes it read any bytes as a header (both
+/// found by fuzz_ros1). So the top level of the file (ROS bag format 2.0: after
+/// "#ROSBAG V2.0\n", records of int32 header length, header fields "int32 length, name=value",
+/// int32 data length, data) is walked first: every length must fit in the file, the bag header's
+/// index_pos and every chunk info's chunk_pos must point at a record, and a chunk's uncompressed
+/// `size` must be plausible (equal to its data length when stored uncompressed, whose inner
+/// records are walked the same way). Throws "<bag>: corrupt ROS 1 bag: ..." naming the byte.
+void checkRos1Structure(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(0, std::ios::end);
+    const size_t file_size = size_t(in.tellg());
+    const auto fail = [&](size_t at, const std::string& why) {
+        throw std::runtime_error(path + ": corrupt ROS 1 bag: record at byte " +
+                                 std::to_string(at) + ": " + why);
+    };
+    const auto u32 = [](const std::vector<uint8_t>& b, size_t at) {
+        return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 |
+               uint32_t(b[at + 3]) << 24;
+    };
+    struct Record {
+        size_t at;
+        std::map<std::string, std::string> fields;
+        size_t data_at, data_len;
+    };
+    // The records of [begin, end) of a byte source get(pos, n), each checked to lie inside it;
+    // only headers are read (and the data of uncompressed chunks, walked the same way).
+    using Get = std::function<std::vector<uint8_t>(size_t, size_t)>;
+    const auto walk = [&](size_t begin, size_t end, const Get& get) {
+        std::vector<Record> recs;
+        for (size_t at = begin; at < end;) {
+            if (end - at < 4) fail(at, "no room for a header length");
+            const size_t hlen = u32(get(at, 4), 0);
+            if (hlen > end - at - 4)
+                fail(at, "header length " + std::to_string(hlen) + " runs past the end");
+            const auto h = get(at + 4, hlen);
+            Record r{at, {}, 0, 0};
+            for (size_t f = 0; f < hlen;) {
+                if (hlen - f < 4) fail(at, "header field without room for its length");
+                const size_t flen = u32(h, f);
+                if (flen > hlen - f - 4) fail(at, "header field runs past the header");
+                const std::string kv(reinterpret_cast<const char*>(h.data() + f + 4), flen);
+                const auto eq = kv.find('=');
+                if (eq != std::string::npos) r.fields[kv.substr(0, eq)] = kv.substr(eq + 1);
+                f += 4 + flen;
+            }
+            const size_t d = at + 4 + hlen;
+            if (end - d < 4) fail(at, "no room for the data length");
+            r.data_len = u32(get(d, 4), 0);
+            r.data_at = d + 4;
+            if (r.data_len > end - r.data_at)
+                fail(at, "data length " + std::to_string(r.data_len) + " runs past the end");
+            at = r.data_at + r.data_len;
+            recs.push_back(std::move(r));
+        }
+        return recs;
+    };
+    const Get from_file = [&](size_t pos, size_t n) {
+        std::vector<uint8_t> b(n);
+        in.clear();
+        in.seekg(std::streamoff(pos));
+        in.read(reinterpret_cast<char*>(b.data()), std::streamsize(n));
+        if (!in) fail(pos, "cannot read " + std::to_string(n) + " bytes");
+        return b;
+    };
+    const auto num = [](const std::string& v) {
+        uint64_t x = 0;
+        for (size_t i = 0; i < v.size() && i < 8; ++i) x |= uint64_t(uint8_t(v[i])) << (8 * i);
+        return x;
+    };
+    if (file_size < 13) fail(0, "shorter than the format line");
+    const auto recs = walk(13, file_size, from_file);
+    std::map<size_t, const Record*> at;
+    for (const auto& r : recs) at[r.at] = &r;
+    for (const auto& r : recs) {
+        const auto op = r.fields.find("op");
+        if (op == r.fields.end() || op->second.size() != 1) fail(r.at, "no 'op' field");
+        const uint8_t code = uint8_t(op->second[0]);
+        if (code == 0x03 && r.fields.count("index_pos")) {  // bag header
+            const uint64_t pos = num(r.fields.at("index_pos"));
+            if (pos != 0 && !at.count(size_t(pos))) fail(r.at, "index_pos " + std::to_string(pos) + " is not a record");
+        } else if (code == 0x06 && r.fields.count("chunk_pos")) {  // chunk info
+            const uint64_t pos = num(r.fields.at("chunk_pos"));
+            const auto it = at.find(size_t(pos));
+            if (it == at.end() || it->second->fields.count("op") == 0 ||
+                it->second->fields.at("op") != std::string(1, '\x05'))
+                fail(r.at, "chunk_pos " + std::to_string(pos) + " is not a chunk record");
+        } else if (code == 0x05) {  // chunk
+            const auto c = r.fields.find("compression");
+            const auto size = r.fields.find("size");
+            if (c == r.fields.end() || size == r.fields.end()) fail(r.at, "chunk without compression/size");
+            const uint64_t usize = num(size->second);
+            if (c->second == "none") {
+                if (usize != r.data_len) fail(r.at, "uncompressed chunk size " + std::to_string(usize) + " is not its data length " + std::to_string(r.data_len));
+                const auto data = from_file(r.data_at, r.data_len);
+                walk(0, data.size(), [&](size_t pos, size_t n) {
+                    return std::vector<uint8_t>(data.begin() + long(pos), data.begin() + long(pos + n));
+                });
+            } else if (usize > (uint64_t(1) << 30) || usize > uint64_t(r.data_len) * 4096 + (1 << 20)) {
+                fail(r.at, "implausible uncompressed chunk size " + std::to_string(usize));
+            }
+        }
+    }
+}
+
 class Ros1Bag : public BagSource {
  public:
     explicit Ros1Bag(const std::string& path) : path_(path) {
+        checkRos1Structure(path);
         try {
             bag_.open(path, rosbag::bagmode::Read);
         } catch (const std::exception& e) {
