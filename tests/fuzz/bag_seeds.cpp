@@ -57,10 +57,14 @@ std::vector<bw::Message> messages(const std::string& data) {
         c.width = uint32_t(bin.size() / 16);
         c.point_step = 20;
         c.row_step = c.width * 20;
-        c.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}, {"intensity", 12, 7, 1},
+        c.fields = {{"x", 0, 7, 1},
+                    {"y", 4, 7, 1},
+                    {"z", 8, 7, 1},
+                    {"intensity", 12, 7, 1},
                     {"t", 16, 6, 1}};
         for (size_t i = 0; i < c.width; ++i) {
-            c.data.insert(c.data.end(), bin.begin() + long(i * 16), bin.begin() + long(i * 16 + 16));
+            c.data.insert(c.data.end(), bin.begin() + long(i * 16),
+                          bin.begin() + long(i * 16 + 16));
             const uint32_t t = uint32_t(i * 2500000);
             c.data.insert(c.data.end(), reinterpret_cast<const uint8_t*>(&t),
                           reinterpret_cast<const uint8_t*>(&t) + 4);
@@ -149,7 +153,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     const std::string data = argv[1], out = argv[2];
-    for (const char* d : {"cdr", "db3", "mcap", "ros1"}) std::filesystem::create_directories(out + "/" + d);
+    for (const char* d : {"cdr", "db3", "mcap", "ros1"})
+        std::filesystem::create_directories(out + "/" + d);
     const auto msgs = messages(data);
     const std::map<std::string, uint8_t> kind{{"sensor_msgs/msg/PointCloud2", 0},
                                               {"sensor_msgs/msg/Imu", 1},

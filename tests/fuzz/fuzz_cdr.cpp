@@ -16,7 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         switch (kind) {
             case 0: {
                 const PointCloud2Msg m = cdrPointCloud2(msg, n);
-                if (m.cloud.data_size && (m.cloud.data < msg || m.cloud.data + m.cloud.data_size > msg + n))
+                if (m.cloud.data_size &&
+                    (m.cloud.data < msg || m.cloud.data + m.cloud.data_size > msg + n))
                     std::abort();  // the data view must lie inside the message
                 superloc::Scan s;
                 for (const char* field : {"auto", "none"}) {
@@ -29,10 +30,18 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 }
                 break;
             }
-            case 1: cdrImu(msg, n); break;
-            case 2: cdrOdometry(msg, n); break;
-            case 3: cdrPoseStamped(msg, n); break;
-            default: cdrTfMessage(msg, n); break;
+            case 1:
+                cdrImu(msg, n);
+                break;
+            case 2:
+                cdrOdometry(msg, n);
+                break;
+            case 3:
+                cdrPoseStamped(msg, n);
+                break;
+            default:
+                cdrTfMessage(msg, n);
+                break;
         }
     });
     return 0;

@@ -77,8 +77,9 @@ TEST(BagFuzzFindings, Ros1BagWithAHugeHeaderLengthIsRefusedBeforeRosbagStorage) 
     bytes.append(64, 'x');
     std::ofstream(dir + "/huge.bag", std::ios::binary) << bytes;
     const auto e = errorOf([&] { io::listRosbag(dir + "/huge.bag"); });
-    EXPECT_EQ(e, dir + "/huge.bag: corrupt ROS 1 bag: record at byte 13: header length 2147483648 "
-                       "runs past the end");
+    EXPECT_EQ(e, dir +
+                     "/huge.bag: corrupt ROS 1 bag: record at byte 13: header length 2147483648 "
+                     "runs past the end");
 }
 
 // fuzz_db3: SQLite's error text quoted a malformed schema across lines; errors are one line.
@@ -142,5 +143,6 @@ TEST(BagFuzzFindings, NamesFromTheFileCannotBreakTheErrorLine) {
     bw::writeMcap(dir + "/c.mcap", smallBag(), o);
     const auto e2 = errorOf([&] { io::listRosbag(dir + "/c.mcap"); });
     EXPECT_EQ(e2.find('\n'), std::string::npos) << e2;
-    EXPECT_NE(e2.find("compression 'zstd\\x0aor not'): unknown compression"), std::string::npos) << e2;
+    EXPECT_NE(e2.find("compression 'zstd\\x0aor not'): unknown compression"), std::string::npos)
+        << e2;
 }

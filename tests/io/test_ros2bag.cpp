@@ -60,8 +60,8 @@ std::vector<uint8_t> slurp(const std::string& path) {
 }
 
 void spit(const std::string& path, const std::vector<uint8_t>& b, size_t n) {
-    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(b.data()),
-                                                std::streamsize(n));
+    std::ofstream(path, std::ios::binary)
+        .write(reinterpret_cast<const char*>(b.data()), std::streamsize(n));
 }
 
 // --- fixtures from the real kitti00-mini scans ----------------------------------------------
@@ -96,8 +96,8 @@ std::vector<KittiScan> kittiScans(size_t n) {
 
 bw::Pose toPose(const SE3d& T) {
     const Eigen::Quaterniond q(T.rotation());
-    return {T.translation().x(), T.translation().y(), T.translation().z(),
-            q.x(), q.y(), q.z(), q.w()};
+    return {
+        T.translation().x(), T.translation().y(), T.translation().z(), q.x(), q.y(), q.z(), q.w()};
 }
 
 bw::Field field(const std::string& name, uint32_t offset, uint8_t type) {
@@ -123,9 +123,11 @@ std::vector<bw::Message> kittiBagMessages() {
         c.width = uint32_t(scans[i].bin.size() / 16);
         c.point_step = 16;
         c.row_step = c.width * 16;
-        c.fields = {field("x", 0, 7), field("y", 4, 7), field("z", 8, 7), field("intensity", 12, 7)};
+        c.fields = {field("x", 0, 7), field("y", 4, 7), field("z", 8, 7),
+                    field("intensity", 12, 7)};
         c.data = scans[i].bin;
-        msgs.push_back({"/velodyne_points", "sensor_msgs/msg/PointCloud2", c.stamp.ns(), bw::cdr(c)});
+        msgs.push_back(
+            {"/velodyne_points", "sensor_msgs/msg/PointCloud2", c.stamp.ns(), bw::cdr(c)});
         bw::Odometry o;
         o.stamp = c.stamp;
         o.frame = "map";
@@ -210,8 +212,9 @@ std::vector<bw::Message> roundTripMessages() {
         msgs.push_back({"/gt", "geometry_msgs/msg/PoseStamped", g.stamp.ns(), bw::cdr(g)});
     }
     // Recorders write in receive order; sort by bag time like a recording.
-    std::stable_sort(msgs.begin(), msgs.end(),
-                     [](const bw::Message& x, const bw::Message& y) { return x.time_ns < y.time_ns; });
+    std::stable_sort(msgs.begin(), msgs.end(), [](const bw::Message& x, const bw::Message& y) {
+        return x.time_ns < y.time_ns;
+    });
     return msgs;
 }
 
@@ -255,8 +258,8 @@ TEST(Ros2Bag, KittiScansSameThroughKittiRos1Db3AndMcap) {
     const auto t1 = std::chrono::steady_clock::now();
     const auto rm = importRosbag(dir + "/k.mcap", p, dir + "/mcap.rawlog");
     const auto t2 = std::chrono::steady_clock::now();
-    const auto rk = importKitti(superloc::testing::sharedData("kitti00-mini"), "", "",
-                                dir + "/kitti.rawlog");
+    const auto rk =
+        importKitti(superloc::testing::sharedData("kitti00-mini"), "", "", dir + "/kitti.rawlog");
     std::cout << "[ kitti db3/mcap ] import " << std::chrono::duration<double>(t1 - t0).count()
               << " s (.db3, " << std::filesystem::file_size(dir + "/k.db3") / 1e6 << " MB), "
               << std::chrono::duration<double>(t2 - t1).count() << " s (.mcap zstd, "
@@ -285,7 +288,9 @@ TEST(Ros2Bag, KittiScansSameThroughKittiRos1Db3AndMcap) {
         for (size_t i = 0; i < 16; ++i) {
             ASSERT_EQ(bs[i]->points.size(), ks[i]->points.size()) << name << " " << i;
             EXPECT_EQ(std::memcmp(bs[i]->points.data(), ks[i]->points.data(),
-                                  ks[i]->points.size() * sizeof(Vec3f)), 0) << name << " " << i;
+                                  ks[i]->points.size() * sizeof(Vec3f)),
+                      0)
+                << name << " " << i;
             EXPECT_EQ(bs[i]->intensity, ks[i]->intensity) << name << " " << i;
             EXPECT_TRUE(bs[i]->rel_time.empty());
             max_dt_kitti = std::max(max_dt_kitti, std::abs((bs[i]->t - 1e9) - ks[i]->t));
@@ -460,7 +465,8 @@ TEST(Ros2Bag, BadInputIsOneLineNamingFileAndTopic) {
     for (const auto& f : files) {
         const auto bytes = slurp(f);
         for (size_t n : {bytes.size() / 2, size_t(100)}) {
-            const std::string t = f + ".trunc" + std::to_string(n) + std::filesystem::path(f).extension().string();
+            const std::string t =
+                f + ".trunc" + std::to_string(n) + std::filesystem::path(f).extension().string();
             spit(t, bytes, n);
             expectError(t, roundTripParams(), {});
         }
@@ -478,8 +484,9 @@ TEST(Ros2Bag, BadInputIsOneLineNamingFileAndTopic) {
     for (const auto& f : {db3, mcap}) {
         auto p = roundTripParams();
         p.odom_alt_topic = "/imu";
-        expectError(f, p, {"topic '/imu' ([rosbag] odom_alt_topic) is sensor_msgs/msg/Imu, "
-                           "expected nav_msgs/Odometry"});
+        expectError(f, p,
+                    {"topic '/imu' ([rosbag] odom_alt_topic) is sensor_msgs/msg/Imu, "
+                     "expected nav_msgs/Odometry"});
     }
     auto msgs = roundTripMessages();
     for (auto& m : msgs)
@@ -517,7 +524,7 @@ TEST(Ros2Bag, BadInputIsOneLineNamingFileAndTopic) {
     int k = 0;
     for (int32_t sec : {5, 6, 4, 7, 7}) {
         bw::Message m = *pc;
-        std::memcpy(&m.data[4], &sec, 4);  // header.stamp.sec right after the CDR header
+        std::memcpy(&m.data[4], &sec, 4);            // header.stamp.sec right after the CDR header
         m.time_ns = int64_t(10 + k++) * 1000000000;  // bag time increases, header.stamp does not
         msgs.push_back(m);
     }
@@ -552,7 +559,8 @@ TEST(Ros2Bag, DeskewOfAScanWithKnownMotionRecoversTheStaticGeometry) {
     const double period = 0.1, stamp = kT0;
     std::vector<Vec3f> truth(n);
     bw::Cloud c;
-    c.stamp = {int32_t(std::floor(stamp)), uint32_t(std::llround((stamp - std::floor(stamp)) * 1e9))};
+    c.stamp = {int32_t(std::floor(stamp)),
+               uint32_t(std::llround((stamp - std::floor(stamp)) * 1e9))};
     c.frame = "lidar";
     c.width = uint32_t(n);
     c.point_step = 24;
@@ -577,8 +585,8 @@ TEST(Ros2Bag, DeskewOfAScanWithKnownMotionRecoversTheStaticGeometry) {
         std::memcpy(&c.data[i * 24], q, 16);
         std::memcpy(&c.data[i * 24 + 16], &t_abs, 8);
     }
-    bw::writeMcap(dir + "/moving.mcap", {{"/points", "sensor_msgs/msg/PointCloud2",
-                                          c.stamp.ns(), bw::cdr(c)}});
+    bw::writeMcap(dir + "/moving.mcap",
+                  {{"/points", "sensor_msgs/msg/PointCloud2", c.stamp.ns(), bw::cdr(c)}});
     RosbagParams p;
     p.lidar_extrinsic = "0 0 0 0 0 0 1";
     const auto r = importRosbag(dir + "/moving.mcap", p, dir + "/moving.rawlog");
@@ -602,7 +610,7 @@ TEST(Ros2Bag, DeskewOfAScanWithKnownMotionRecoversTheStaticGeometry) {
     }
     std::cout << "[ deskew ] " << n << " points, distortion mean " << sum_before / n << " m, max "
               << max_before << " m; after deskew max " << max_after << " m\n";
-    EXPECT_GT(max_before, 1.0);     // the motion matters
-    EXPECT_LT(max_after, 2e-3);     // float points, 100 ns clock, 16-sample motion table
+    EXPECT_GT(max_before, 1.0);  // the motion matters
+    EXPECT_LT(max_after, 2e-3);  // float points, 100 ns clock, 16-sample motion table
     EXPECT_NEAR(max_before, max_skew, 1e-3);
 }

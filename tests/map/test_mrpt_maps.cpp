@@ -178,14 +178,17 @@ TEST(MrptMaps, AppsTakeASimpleMap) {
         return std::system((cmd + " > " + dir + "/out.txt 2> " + dir + "/err.txt").c_str());
     };
     ASSERT_EQ(run(map_exe + " --simplemap " + dir + "/k.simplemap --voxel 0.2 --no-normals --out " +
-                  dir + "/m.pcd"), 0);
+                  dir + "/m.pcd"),
+              0);
     EXPECT_GT(io::loadPointCloud(dir + "/m.pcd").size(), 50000u);
-    EXPECT_NE(run(map_exe + " --simplemap " + dir + "/k.simplemap --out " + dir + "/m.simplemap"), 0);
+    EXPECT_NE(run(map_exe + " --simplemap " + dir + "/k.simplemap --out " + dir + "/m.simplemap"),
+              0);
     io::importKitti(kitti, "", "", dir + "/k.rawlog");
-    ASSERT_EQ(run(loc_exe + " " + superloc::testing::sourcePath("ini/localize-kitti.ini") +
-                  " --rawlog " + dir + "/k.rawlog --map " + dir + "/k.simplemap" +
-                  " --initial-pose-tum " + kitti + "/gt_velodyne_tum.txt --set rawlog.scans=0:4" +
-                  " --out " + dir + "/run --quiet"), 0);
+    ASSERT_EQ(
+        run(loc_exe + " " + superloc::testing::sourcePath("ini/localize-kitti.ini") + " --rawlog " +
+            dir + "/k.rawlog --map " + dir + "/k.simplemap" + " --initial-pose-tum " + kitti +
+            "/gt_velodyne_tum.txt --set rawlog.scans=0:4" + " --out " + dir + "/run --quiet"),
+        0);
     const auto est = io::loadTum(dir + "/run/trajectory.tum");
     const auto gt = io::loadTum(kitti + "/gt_velodyne_tum.txt");
     ASSERT_EQ(est.size(), kScans);

@@ -36,9 +36,9 @@ void appendPoints(const mrpt::maps::CPointsMap& m, std::vector<Vec3f>& pts,
 
 }  // namespace
 
-SimpleMapStats forEachSimpleMapScan(
-    const std::string& path, const std::function<void(const Scan&, const SE3d&)>& fn,
-    const RawlogParams& params_in) {
+SimpleMapStats forEachSimpleMapScan(const std::string& path,
+                                    const std::function<void(const Scan&, const SE3d&)>& fn,
+                                    const RawlogParams& params_in) {
     if (!std::filesystem::exists(path)) throw std::runtime_error(path + ": file not found");
     mrpt::maps::CSimpleMap sm;
     if (!sm.loadFromFile(path))
@@ -92,7 +92,8 @@ PointCloud loadSimpleMap(const std::string& path, SimpleMapStats* stats) {
         const SE3d T = T_map_body * s.T_imu_lidar;
         const Eigen::Matrix3f R = T.linear().cast<float>();
         const Vec3d t = T.translation();
-        for (const auto& p : s.points) c.points.push_back(((R * p).cast<double>() + t).cast<float>());
+        for (const auto& p : s.points)
+            c.points.push_back(((R * p).cast<double>() + t).cast<float>());
         if (s.intensity.size() == s.size())
             c.intensity.insert(c.intensity.end(), s.intensity.begin(), s.intensity.end());
         else
@@ -113,8 +114,8 @@ PointCloud loadMrptPointsMap(const std::string& path) {
         mrpt::io::CFileGZInputStream f(path);
         obj = mrpt::serialization::archiveFrom(f).ReadObject();
     } catch (const std::exception& e) {
-        throw std::runtime_error(path + ": not a readable MRPT point map: " +
-                                 detail::firstLine(e.what()));
+        throw std::runtime_error(path +
+                                 ": not a readable MRPT point map: " + detail::firstLine(e.what()));
     }
     const auto m = std::dynamic_pointer_cast<mrpt::maps::CPointsMap>(obj);
     if (!m)

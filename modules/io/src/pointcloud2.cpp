@@ -104,7 +104,8 @@ PointCloud2Stats decodePointCloud2(const PointCloud2View& pc, const PointTimeOpt
     } else if (opt.field != "none") {
         ft = findField(pc, opt.field);
         if (!ft)
-            throw std::runtime_error("PointCloud2 has no per-point time field '" + printable(opt.field) +
+            throw std::runtime_error("PointCloud2 has no per-point time field '" +
+                                     printable(opt.field) +
                                      "' ([rosbag] point_time_field)");
     }
     if (opt.reference != "auto" && opt.reference != "relative" && opt.reference != "absolute")

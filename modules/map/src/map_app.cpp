@@ -36,7 +36,8 @@ double median(std::vector<float> v) {
 std::string mapAppUsage() {
     return "Usage: superloc-map (--rawlog FILE [--poses TUM] | --simplemap FILE) [--voxel M]\n"
            "                    --out MAP.pcd [--min-range M] [--max-range M] [--body-poses]\n"
-           "                    [--no-normals] [--stats] [--config INI] [--set rawlog.key=value]...\n"
+           "                    [--no-normals] [--stats] [--config INI]\n"
+           "                    [--set rawlog.key=value]...\n"
            "Builds a prior map from a rawlog's LiDAR scans placed at their poses, or from an MRPT\n"
            "simplemap's keyframes.\n"
            "  --rawlog FILE   input rawlog (CObservationPointCloud/Velodyne/RotatingScan scans)\n"

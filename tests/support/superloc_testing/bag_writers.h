@@ -173,11 +173,11 @@ struct Message {
 /// A rosbag2 SQLite file with the schema of rosbag2 (Humble+): topics, messages, schema,
 /// metadata; the topics in order of first appearance. `page_size` 0 = SQLite's default (4096);
 /// 512 makes the smallest files (fuzzing seeds).
-inline void writeDb3(const std::string& path, const std::vector<Message>& msgs,
-                     int page_size = 0) {
+inline void writeDb3(const std::string& path, const std::vector<Message>& msgs, int page_size = 0) {
     std::remove(path.c_str());
     sqlite3* db = nullptr;
-    if (sqlite3_open(path.c_str(), &db) != SQLITE_OK) throw std::runtime_error("sqlite open " + path);
+    if (sqlite3_open(path.c_str(), &db) != SQLITE_OK)
+        throw std::runtime_error("sqlite open " + path);
     const auto exec = [&](const std::string& sql) {
         char* err = nullptr;
         if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
@@ -187,16 +187,17 @@ inline void writeDb3(const std::string& path, const std::vector<Message>& msgs,
         }
     };
     if (page_size > 0) exec("PRAGMA page_size=" + std::to_string(page_size) + ";");
-    exec("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
-         "INSERT INTO schema VALUES(3, 'humble');"
-         "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL,"
-         " metadata TEXT NOT NULL);"
-         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
-         " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
-         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,"
-         " timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
-         "CREATE INDEX timestamp_idx ON messages (timestamp ASC);"
-         "BEGIN;");
+    exec(
+        "CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);"
+        "INSERT INTO schema VALUES(3, 'humble');"
+        "CREATE TABLE metadata(id INTEGER PRIMARY KEY, metadata_version INTEGER NOT NULL,"
+        " metadata TEXT NOT NULL);"
+        "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL,"
+        " serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);"
+        "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL,"
+        " timestamp INTEGER NOT NULL, data BLOB NOT NULL);"
+        "CREATE INDEX timestamp_idx ON messages (timestamp ASC);"
+        "BEGIN;");
     std::map<std::string, int> ids;
     sqlite3_stmt* st = nullptr;
     sqlite3_prepare_v2(db, "INSERT INTO messages(topic_id, timestamp, data) VALUES(?, ?, ?)", -1,
@@ -266,8 +267,8 @@ inline void writeMcap(const std::string& path, const std::vector<Message>& msgs,
             data.resize(ZSTD_compress(data.data(), data.size(), chunk.data(), chunk.size(), 1));
         } else if (opt.compression == "lz4") {
             data.resize(LZ4F_compressFrameBound(chunk.size(), nullptr));
-            data.resize(LZ4F_compressFrame(data.data(), data.size(), chunk.data(), chunk.size(),
-                                           nullptr));
+            data.resize(
+                LZ4F_compressFrame(data.data(), data.size(), chunk.data(), chunk.size(), nullptr));
         }
         std::vector<uint8_t> k;
         r.num(k, uint64_t(0));  // message start/end time: not used by readers of the data section

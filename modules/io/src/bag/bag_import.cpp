@@ -157,9 +157,8 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
         throw std::runtime_error(bag + ": no " + std::string(kPointCloud2) +
                                  " topic to import ([rosbag] lidar_topic; see --list)");
     r.imu_topic = topics.resolve(bag, "imu_topic", p.imu_topic, {kImu});
-    const std::string odom_topic =
-        topics.resolve(bag, "odom_alt_topic", p.odom_alt_topic.empty() ? "none" : p.odom_alt_topic,
-                       {kOdometry});
+    const std::string odom_topic = topics.resolve(
+        bag, "odom_alt_topic", p.odom_alt_topic.empty() ? "none" : p.odom_alt_topic, {kOdometry});
     const std::string gt_topic = topics.resolve(
         bag, "gt_topic", p.gt_topic.empty() ? "none" : p.gt_topic, {kOdometry, kPoseStamped});
     std::string tf_topic;
@@ -185,8 +184,9 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     };
     const std::string lidar_frame = firstFrame(r.lidar_topic, true);
     const std::string imu_frame = r.imu_topic.empty() ? "" : firstFrame(r.imu_topic, false);
-    const std::string body =
-        !p.body_frame.empty() ? p.body_frame : !imu_frame.empty() ? imu_frame : lidar_frame;
+    const std::string body = !p.body_frame.empty() ? p.body_frame
+                             : !imu_frame.empty()  ? imu_frame
+                                                   : lidar_frame;
     if (!imu_frame.empty() && imu_frame != body)
         throw std::runtime_error(bag + ": topic '" + r.imu_topic + "': IMU frame '" + imu_frame +
                                  "' is not the body frame '" + body +
@@ -207,9 +207,10 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
         if (T_child_body) return to_lidar ? SE3d(*T_child_body * T_body_lidar) : *T_child_body;
         if (to_lidar)
             if (auto T = tf.lookup(child, lidar_frame)) return *T;
-        throw std::runtime_error(bag + ": topic '" + topic + "': no static transform from its "
-                                 "child frame '" + child + "' to '" +
-                                 (to_lidar ? lidar_frame : body) + "'");
+        throw std::runtime_error(bag + ": topic '" + topic +
+                                 "': no static transform from its "
+                                 "child frame '" +
+                                 child + "' to '" + (to_lidar ? lidar_frame : body) + "'");
     };
     std::map<std::string, SE3d> child_cache;
     const auto cachedChild = [&](const std::string& topic, const std::string& child,

@@ -75,8 +75,9 @@ uint32_t CdrReader::sequenceLength(const char* what, size_t min_element_bytes) {
     const size_t at = pos_;
     const uint32_t n = u32(what);
     if (min_element_bytes > 0 && uint64_t(n) * min_element_bytes > size_ - pos_)
-        fail(what, at, "says " + std::to_string(n) + " elements, more than the " +
-                           std::to_string(size_ - pos_) + " bytes left hold");
+        fail(what, at,
+             "says " + std::to_string(n) + " elements, more than the " +
+                 std::to_string(size_ - pos_) + " bytes left hold");
     return n;
 }
 

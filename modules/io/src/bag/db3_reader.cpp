@@ -35,7 +35,8 @@ class Db3Bag : public BagSource {
     std::vector<BagTopic> topics() override {
         std::map<int64_t, size_t> counts;
         Statement s(*this, "SELECT topic_id, COUNT(*) FROM messages GROUP BY topic_id");
-        while (s.step()) counts[sqlite3_column_int64(s.st, 0)] = size_t(sqlite3_column_int64(s.st, 1));
+        while (s.step())
+            counts[sqlite3_column_int64(s.st, 0)] = size_t(sqlite3_column_int64(s.st, 1));
         std::map<std::string, BagTopic> sorted;
         for (const auto& [id, t] : topics_) sorted[t.name] = {t.name, t.type, counts[id]};
         std::vector<BagTopic> out;

@@ -83,10 +83,12 @@ class McapBag : public BagSource {
 
     std::vector<BagTopic> topics() override {
         std::map<uint16_t, size_t> counts;
-        scan([&](uint16_t channel, uint64_t, const uint8_t*, uint64_t) {
-            ++counts[channel];
-            return true;
-        }, nullptr);
+        scan(
+            [&](uint16_t channel, uint64_t, const uint8_t*, uint64_t) {
+                ++counts[channel];
+                return true;
+            },
+            nullptr);
         std::map<std::string, BagTopic> sorted;
         for (const auto& [id, c] : channels_) {
             auto& t = sorted[c.topic];
@@ -114,13 +116,16 @@ class McapBag : public BagSource {
                                          c.encoding + "'; only cdr is read");
             return fn(CdrMessage(c.topic, c.type, int64_t(log_time), data, size_t(size)));
         };
-        scan([&](uint16_t channel, uint64_t log_time, const uint8_t* data, uint64_t size) {
-            return !wanted(channel) || visit(channel, log_time, data, size);
-        }, [&](const std::vector<Pending>& chunk) {
-            for (const Pending& m : chunk)
-                if (wanted(m.channel) && !visit(m.channel, m.log_time, m.data, m.size)) return false;
-            return true;
-        });
+        scan(
+            [&](uint16_t channel, uint64_t log_time, const uint8_t* data, uint64_t size) {
+                return !wanted(channel) || visit(channel, log_time, data, size);
+            },
+            [&](const std::vector<Pending>& chunk) {
+                for (const Pending& m : chunk)
+                    if (wanted(m.channel) && !visit(m.channel, m.log_time, m.data, m.size))
+                        return false;
+                return true;
+            });
     }
 
  private:
@@ -157,8 +162,8 @@ class McapBag : public BagSource {
                      " without a Data End or Footer record");
             uint64_t len = 0;
             for (int i = 0; i < 8; ++i) len |= uint64_t(head[1 + i]) << (8 * i);
-            const std::string where = "record 0x" + hex(head[0]) + " at byte " +
-                                      std::to_string(offset);
+            const std::string where =
+                "record 0x" + hex(head[0]) + " at byte " + std::to_string(offset);
             if (len > file_size_ - offset - 9 || len > kMaxRecord)
                 fail("truncated: " + where + " says " + std::to_string(len) +
                      " bytes, more than the file holds");
@@ -231,8 +236,8 @@ class McapBag : public BagSource {
         const std::string compression = f.str("chunk compression");
         const auto csize = f.num<uint64_t>("chunk records length");
         const uint8_t* src = f.take(csize, "chunk records");
-        const std::string cwhere = path_ + ": MCAP: chunk (" + where + ", compression '" +
-                                   printable(compression) + "')";
+        const std::string cwhere =
+            path_ + ": MCAP: chunk (" + where + ", compression '" + printable(compression) + "')";
         if (compression != "" && compression != "zstd" && compression != "lz4")
             throw std::runtime_error(cwhere + ": unknown compression (known: '', zstd, lz4)");
         if (usize > kMaxChunk || (compression != "" && usize > csize * 4096 + (1 << 20)))
@@ -245,16 +250,15 @@ class McapBag : public BagSource {
                                          " is not the records length " + std::to_string(csize));
         } else {
             chunk_.resize(size_t(usize));
-            const size_t got = compression == "zstd" ? unzstd(src, csize, cwhere)
-                                                     : unlz4(src, csize, cwhere);
+            const size_t got =
+                compression == "zstd" ? unzstd(src, csize, cwhere) : unlz4(src, csize, cwhere);
             if (got != usize)
                 throw std::runtime_error(cwhere + ": decompresses to " + std::to_string(got) +
                                          " bytes, not its uncompressed_size " +
                                          std::to_string(usize));
             records = chunk_.data();
         }
-        if (crc != 0 &&
-            uint32_t(crc32_z(crc32_z(0, nullptr, 0), records, size_t(usize))) != crc)
+        if (crc != 0 && uint32_t(crc32_z(crc32_z(0, nullptr, 0), records, size_t(usize))) != crc)
             throw std::runtime_error(cwhere + ": CRC mismatch (corrupt chunk)");
         // The chunk's own records: schemas, channels, messages.
         std::vector<Pending> pending;
@@ -274,15 +278,15 @@ class McapBag : public BagSource {
             pos += 9 + len;
         }
         if (!on_chunk) return true;
-        std::stable_sort(pending.begin(), pending.end(),
-                         [](const Pending& a, const Pending& b) { return a.log_time < b.log_time; });
+        std::stable_sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
+            return a.log_time < b.log_time;
+        });
         return on_chunk(pending);
     }
 
     size_t unzstd(const uint8_t* src, uint64_t n, const std::string& where) {
         const size_t r = ZSTD_decompress(chunk_.data(), chunk_.size(), src, size_t(n));
-        if (ZSTD_isError(r))
-            throw std::runtime_error(where + ": zstd: " + ZSTD_getErrorName(r));
+        if (ZSTD_isError(r)) throw std::runtime_error(where + ": zstd: " + ZSTD_getErrorName(r));
         return r;
     }
 
@@ -294,8 +298,8 @@ class McapBag : public BagSource {
         size_t hint = 1;
         while (in < n && hint != 0) {
             size_t dst_size = chunk_.size() - out, src_size = size_t(n) - in;
-            hint = LZ4F_decompress(ctx, chunk_.data() + out, &dst_size, src + in, &src_size,
-                                   nullptr);
+            hint =
+                LZ4F_decompress(ctx, chunk_.data() + out, &dst_size, src + in, &src_size, nullptr);
             if (LZ4F_isError(hint)) {
                 LZ4F_freeDecompressionContext(ctx);
                 throw std::runtime_error(where + ": lz4: " + LZ4F_getErrorName(hint));
@@ -306,7 +310,8 @@ class McapBag : public BagSource {
         }
         LZ4F_freeDecompressionContext(ctx);
         if (hint != 0)
-            throw std::runtime_error(where + ": lz4: the frame is truncated or larger than "
+            throw std::runtime_error(where +
+                                     ": lz4: the frame is truncated or larger than "
                                      "uncompressed_size");
         return out;
     }

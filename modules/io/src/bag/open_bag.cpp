@@ -16,7 +16,8 @@ namespace detail {
 
 #ifndef SUPERLOC_HAVE_ROS1
 std::unique_ptr<BagSource> openRos1Bag(const std::string& path) {
-    throw std::runtime_error(path + ": a ROS 1 bag, and this build has no ROS 1 bag support "
+    throw std::runtime_error(path +
+                             ": a ROS 1 bag, and this build has no ROS 1 bag support "
                              "(install the packages of scripts/install-deps.sh, re-run cmake)");
 }
 #endif
@@ -53,7 +54,8 @@ std::unique_ptr<BagSource> openBag(const std::string& path_in) {
     if (std::memcmp(magic, "#ROSBAG V2.0\n", 13) == 0) return openRos1Bag(path);
     if (std::memcmp(magic, "SQLite format 3", 16) == 0) return openDb3Bag(path);
     if (std::memcmp(magic, "\x89MCAP0\r\n", 8) == 0) return openMcapBag(path);
-    throw std::runtime_error(path + ": not a bag (neither ROS 1 '#ROSBAG V2.0', ROS 2 SQLite .db3 "
+    throw std::runtime_error(path +
+                             ": not a bag (neither ROS 1 '#ROSBAG V2.0', ROS 2 SQLite .db3 "
                              "nor MCAP by its first bytes)");
 }
 
@@ -71,7 +73,8 @@ auto oneLineErrors(F&& f) -> decltype(f()) {
         const std::string what = e.what();
         if (what.find_first_of("\n\r") == std::string::npos) throw;
         std::string line;
-        for (const char c : what) line += (c == '\n' ? "\\n" : c == '\r' ? "\\r" : std::string(1, c));
+        for (const char c : what)
+            line += (c == '\n' ? "\\n" : c == '\r' ? "\\r" : std::string(1, c));
         throw std::runtime_error(line);
     }
 }

@@ -49,7 +49,8 @@ class Ros1Message : public BagMessage {
         v.point_step = pc->point_step;
         v.row_step = pc->row_step;
         v.is_bigendian = pc->is_bigendian;
-        for (const auto& f : pc->fields) v.fields.push_back({f.name, f.offset, f.datatype, f.count});
+        for (const auto& f : pc->fields)
+            v.fields.push_back({f.name, f.offset, f.datatype, f.count});
         v.data = pc->data.data();
         v.data_size = pc->data.size();
         return out;
@@ -58,7 +59,8 @@ class Ros1Message : public BagMessage {
         const auto m = instantiate<sensor_msgs::Imu>();
         ImuMsg out;
         out.header = header(m->header);
-        out.angular_velocity = {m->angular_velocity.x, m->angular_velocity.y, m->angular_velocity.z};
+        out.angular_velocity = {m->angular_velocity.x, m->angular_velocity.y,
+                                m->angular_velocity.z};
         out.linear_acceleration = {m->linear_acceleration.x, m->linear_acceleration.y,
                                    m->linear_acceleration.z};
         return out;
@@ -88,8 +90,8 @@ class Ros1Message : public BagMessage {
         for (const auto& x : msg->transforms) {
             const auto& t = x.transform.translation;
             const auto& q = x.transform.rotation;
-            out.push_back({x.header.frame_id, x.child_frame_id,
-                           {t.x, t.y, t.z, q.x, q.y, q.z, q.w}});
+            out.push_back(
+                {x.header.frame_id, x.child_frame_id, {t.x, t.y, t.z, q.x, q.y, q.z, q.w}});
         }
         return out;
     }
@@ -188,7 +190,8 @@ void checkRos1Structure(const std::string& path) {
         const uint8_t code = uint8_t(op->second[0]);
         if (code == 0x03 && r.fields.count("index_pos")) {  // bag header
             const uint64_t pos = num(r.fields.at("index_pos"));
-            if (pos != 0 && !at.count(size_t(pos))) fail(r.at, "index_pos " + std::to_string(pos) + " is not a record");
+            if (pos != 0 && !at.count(size_t(pos)))
+                fail(r.at, "index_pos " + std::to_string(pos) + " is not a record");
         } else if (code == 0x06 && r.fields.count("chunk_pos")) {  // chunk info
             const uint64_t pos = num(r.fields.at("chunk_pos"));
             const auto it = at.find(size_t(pos));
@@ -198,15 +201,20 @@ void checkRos1Structure(const std::string& path) {
         } else if (code == 0x05) {  // chunk
             const auto c = r.fields.find("compression");
             const auto size = r.fields.find("size");
-            if (c == r.fields.end() || size == r.fields.end()) fail(r.at, "chunk without compression/size");
+            if (c == r.fields.end() || size == r.fields.end())
+                fail(r.at, "chunk without compression/size");
             const uint64_t usize = num(size->second);
             if (c->second == "none") {
-                if (usize != r.data_len) fail(r.at, "uncompressed chunk size " + std::to_string(usize) + " is not its data length " + std::to_string(r.data_len));
+                if (usize != r.data_len)
+                    fail(r.at, "uncompressed chunk size " + std::to_string(usize) +
+                                   " is not its data length " + std::to_string(r.data_len));
                 const auto data = from_file(r.data_at, r.data_len);
                 walk(0, data.size(), [&](size_t pos, size_t n) {
-                    return std::vector<uint8_t>(data.begin() + long(pos), data.begin() + long(pos + n));
+                    return std::vector<uint8_t>(data.begin() + long(pos),
+                                                data.begin() + long(pos + n));
                 });
-            } else if (usize > (uint64_t(1) << 30) || usize > uint64_t(r.data_len) * 4096 + (1 << 20)) {
+            } else if (usize > (uint64_t(1) << 30) ||
+                       usize > uint64_t(r.data_len) * 4096 + (1 << 20)) {
                 fail(r.at, "implausible uncompressed chunk size " + std::to_string(usize));
             }
         }

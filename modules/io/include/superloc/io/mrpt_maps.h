@@ -17,9 +17,9 @@ namespace superloc::io {
 /// What a simplemap held.
 struct SimpleMapStats {
     size_t keyframes = 0;
-    size_t scans = 0;                ///< observations turned into points
-    size_t other_observations = 0;   ///< observations without points (IMU, images, ...): skipped
-    size_t invalid_points = 0;       ///< NaN/inf points dropped
+    size_t scans = 0;               ///< observations turned into points
+    size_t other_observations = 0;  ///< observations without points (IMU, images, ...): skipped
+    size_t invalid_points = 0;      ///< NaN/inf points dropped
 };
 
 /// Visits the point-cloud-like observations of a simplemap, keyframe by keyframe:
