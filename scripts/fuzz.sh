@@ -2,15 +2,16 @@
 # Builds the libFuzzer targets (tests/fuzz, clang-14 + libfuzzer-14-dev, ASan + UBSan) in
 # ./build-fuzz and runs each for SECONDS, one after the other (one job each: the machine has two
 # cores), seeded with cuts of the real files in the shared data folder.
-#   scripts/fuzz.sh SECONDS [TARGET...]      TARGET in: pcd ply kitti_bin tum ini (default: all)
+#   scripts/fuzz.sh SECONDS [TARGET...]      TARGET in: pcd ply kitti_bin tum ini cdr db3 mcap ros1
+#                                             (default: all)
 # Corpora grow in build-fuzz/corpus/<target>, crashes land in build-fuzz/artifacts/<target>/, the
 # logs in build-fuzz/logs/<target>.log; a table of executions and coverage is printed at the end.
 # Reproduce a crash: build-fuzz/fuzz/superloc-fuzz-<target> build-fuzz/artifacts/<target>/crash-...
 set -euo pipefail
-SECONDS_PER_TARGET=${1:?usage: scripts/fuzz.sh SECONDS [pcd ply kitti_bin tum ini]}
+SECONDS_PER_TARGET=${1:?usage: scripts/fuzz.sh SECONDS [pcd ply kitti_bin tum ini cdr db3 mcap ros1]}
 shift
 TARGETS=("$@")
-[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(pcd ply kitti_bin tum ini)
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(pcd ply kitti_bin tum ini cdr db3 mcap ros1)
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 DATA=${SUPERLOC_SHARED_DATA:-$ROOT/../shared/data}
@@ -32,11 +33,12 @@ if [ ! -f $B/build.ninja ]; then
     -DSUPERLOC_FUZZ=ON -DSUPERLOC_BUILD_TESTS=OFF -DSUPERLOC_BUILD_BENCH=OFF \
     -DSUPERLOC_SHARED_DATA="$DATA"
 fi
-cmake --build $B -j "$(nproc)" --target "${TARGETS[@]/#/superloc-fuzz-}"
+cmake --build $B -j "$(nproc)" --target "${TARGETS[@]/#/superloc-fuzz-}" superloc-fuzz-bag-seeds
 
 [ -d "$DATA" ] || { echo "fuzz: $DATA not found (set SUPERLOC_SHARED_DATA)" >&2; exit 1; }
 rm -rf $B/seeds
 python3 scripts/fuzz_seeds.py "$DATA" "$ROOT" $B/seeds
+$B/fuzz/superloc-fuzz-bag-seeds "$DATA" $B/seeds   # cdr db3 mcap ros1: small bags (C++ writers)
 mkdir -p $B/logs
 
 # ASan: report leaks too; UBSan: stop at the first report (also compiled with no recovery).
@@ -48,8 +50,10 @@ for t in "${TARGETS[@]}"; do
   mkdir -p $B/corpus/$t $B/artifacts/$t
   echo "== $t: ${SECONDS_PER_TARGET} s"
   rc=0
+  max_len=8192
+  case $t in db3|mcap|ros1) max_len=65536 ;; esac   # a bag's smallest real file is a few kB
   $B/fuzz/superloc-fuzz-$t $B/corpus/$t $B/seeds/$t \
-    -max_total_time="$SECONDS_PER_TARGET" -max_len=8192 -timeout=10 -rss_limit_mb=2048 \
+    -max_total_time="$SECONDS_PER_TARGET" -max_len=$max_len -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix=$B/artifacts/$t/ > $B/logs/$t.log 2>&1 || rc=$?
   execs=$(awk '/stat::number_of_executed_units/ {print $NF}' $B/logs/$t.log)
   speed=$(awk '/stat::average_exec_per_sec/ {print $NF}' $B/logs/$t.log)

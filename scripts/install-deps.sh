@@ -7,7 +7,9 @@ PKGS=(cmake ninja-build g++ pkg-config
       nlohmann-json3-dev python3
       # ROS 1 bags (superloc-import --rosbag): rosbag_storage and the message headers
       librosbag-storage-dev pluginlib-dev libsensor-msgs-dev libnav-msgs-dev
-      libgeometry-msgs-dev libtf2-msgs-dev)
+      libgeometry-msgs-dev libtf2-msgs-dev
+      # ROS 2 bags (.db3: SQLite; .mcap: zstd / lz4 chunks, CRC-32 from zlib)
+      libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev)
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 missing=()

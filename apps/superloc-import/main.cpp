@@ -1,7 +1,7 @@
-// superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag FILE.bag [--list]) [--poses TUM]
-//                 [--times FILE] [--imu-csv F] [--odom-csv F] [--config INI] [--set S.K=V]...
-//                 --out FILE.rawlog
-// Converts a folder of scans or a ROS 1 bag into a rawlog (DESIGN §9); the work is
+// superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag FILE.bag|.db3|.mcap [--list])
+//                 [--poses TUM] [--times FILE] [--imu-csv F] [--odom-csv F] [--config INI]
+//                 [--set S.K=V]... --out FILE.rawlog
+// Converts a folder of scans or a ROS 1 / ROS 2 bag into a rawlog (DESIGN §9); the work is
 // io::importKitti / io::importPcdFolder / io::importRosbag.
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/progress.h>
@@ -26,15 +26,17 @@
 namespace {
 
 const char* kUsage =
-    "Usage: superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag FILE.bag [--list])\n"
+    "Usage: superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag BAG [--list])\n"
     "                       [--poses TUM] [--times FILE] [--imu-csv F] [--odom-csv F]\n"
     "                       [--config INI] [--set rosbag.KEY=V]...\n"
     "                       --out FILE.rawlog\n"
     "  --kitti DIR    KITTI odometry folder: DIR/velodyne/NNNNNN.bin and DIR/times.txt\n"
     "  --pcd-dir DIR  folder of PCD scans (sorted by file name)\n"
-    "  --rosbag BAG   ROS 1 bag: sensor_msgs/PointCloud2 (per-point time kept), sensor_msgs/Imu,\n"
-    "                 nav_msgs/Odometry (odom_alt / gt), geometry_msgs/PoseStamped (gt), the\n"
-    "                 LiDAR extrinsic from /tf_static; topics in the [rosbag] INI section\n"
+    "  --rosbag BAG   ROS 1 .bag, ROS 2 .db3 (SQLite) or .mcap (or a ROS 2 bag folder holding\n"
+    "                 one of them): sensor_msgs/PointCloud2 (per-point time kept),\n"
+    "                 sensor_msgs/Imu, nav_msgs/Odometry (odom_alt / gt),\n"
+    "                 geometry_msgs/PoseStamped (gt), the LiDAR extrinsic from /tf_static;\n"
+    "                 topics in the [rosbag] INI section\n"
     "  --list         with --rosbag: print the bag's topics, types and message counts\n"
     "  --config INI   INI file with a [rosbag] section (doc/your-data.md)\n"
     "  --set S.K=V    override one INI key, e.g. --set rosbag.gt_topic=/ground_truth\n"
@@ -97,8 +99,8 @@ Args parse(int argc, char** argv) {
     if (a.help || a.dump_config) return a;
     if (int(!a.kitti.empty()) + int(!a.pcd_dir.empty()) + int(!a.rosbag.empty()) != 1)
         throw std::runtime_error(
-            "give exactly one of --kitti DIR, --pcd-dir DIR or --rosbag FILE.bag (see --help)");
-    if (a.list && a.rosbag.empty()) throw std::runtime_error("--list goes with --rosbag FILE.bag");
+            "give exactly one of --kitti DIR, --pcd-dir DIR or --rosbag BAG (see --help)");
+    if (a.list && a.rosbag.empty()) throw std::runtime_error("--list goes with --rosbag BAG");
     if (!a.rosbag.empty() && (!a.poses.empty() || !a.times.empty()))
         throw std::runtime_error(
             "--poses/--times are for --kitti/--pcd-dir; a bag's ground truth is a topic "
@@ -138,7 +140,6 @@ void writeGtTum(const Args& a, const std::string& gt_label) {
     superloc::io::saveTum(a.gt_tum, gt);
 }
 
-#ifdef SUPERLOC_HAVE_ROS1
 int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
               const superloc::io::ProgressFn& bar, superloc::io::ImportExtras extras) {
     if (a.list) {
@@ -161,14 +162,6 @@ int runRosbag(const Args& a, const superloc::io::RosbagParams& params,
     writeGtTum(a, params.gt_label);
     return 0;
 }
-#else
-int runRosbag(const Args&, const superloc::io::RosbagParams&, const superloc::io::ProgressFn&,
-              const superloc::io::ImportExtras&) {
-    throw std::runtime_error(
-        "--rosbag: this build has no ROS 1 bag support (install librosbag-storage-dev and the "
-        "message -dev packages with scripts/install-deps.sh, then re-run cmake)");
-}
-#endif
 
 int run(int argc, char** argv) {
     const Args a = parse(argc, argv);

@@ -1,6 +1,7 @@
 // The superloc-import executable itself: exit codes, one-line errors, a real KITTI import.
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
+#include <superloc_testing/bag_writers.h>
 #include <superloc_testing/testing.h>
 #include <sys/wait.h>
 
@@ -96,3 +97,49 @@ TEST(SuperlocImportExe, RosbagListImportAndErrors) {
     }
 }
 #endif
+
+// ROS 2 bags through the executable: --list and an import of a .db3 and an MCAP written by the
+// test writers (two real KITTI scans cut to 1000 points), and a one-line error for an MCAP
+// chunk with an unknown compression.
+TEST(SuperlocImportExe, Ros2BagListImportAndErrors) {
+    if (!std::filesystem::exists(kExe)) GTEST_SKIP() << "superloc-import not built: " << kExe;
+    SUPERLOC_REQUIRE_DATA("kitti00-mini");
+    namespace bw = superloc::testing::bag;
+    const auto dir = superloc::testing::freshDir("import_exe_ros2bag");
+    std::vector<bw::Message> msgs;
+    for (int k = 0; k < 2; ++k) {
+        char name[64];
+        std::snprintf(name, sizeof(name), "kitti00-mini/velodyne/%06d.bin", k);
+        std::ifstream in(superloc::testing::sharedData(name), std::ios::binary);
+        bw::Cloud c;
+        c.stamp = {100 + k, 0};
+        c.frame = "velodyne";
+        c.data.resize(1000 * 16);
+        in.read(reinterpret_cast<char*>(c.data.data()), std::streamsize(c.data.size()));
+        c.width = 1000;
+        c.point_step = 16;
+        c.row_step = 16000;
+        c.fields = {{"x", 0, 7, 1}, {"y", 4, 7, 1}, {"z", 8, 7, 1}, {"intensity", 12, 7, 1}};
+        msgs.push_back({"/points", "sensor_msgs/msg/PointCloud2", c.stamp.ns(), bw::cdr(c)});
+    }
+    bw::writeDb3(dir + "/k.db3", msgs);
+    bw::writeMcap(dir + "/k.mcap", msgs);
+    for (const std::string f : {"k.db3", "k.mcap"}) {
+        const ExeResult list = runExe("--rosbag " + dir + "/" + f + " --list", dir);
+        ASSERT_EQ(list.code, 0) << list.err;
+        EXPECT_EQ(list.out, "/points  sensor_msgs/msg/PointCloud2  2 messages\n");
+        const ExeResult r = runExe("--rosbag " + dir + "/" + f + " --out " + dir + "/x.rawlog", dir);
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.out.find("2 scans (/points, 0 with per-point time), 2000 points"),
+                  std::string::npos) << r.out;
+    }
+    bw::McapOptions o;
+    o.compression = "brotli";
+    bw::writeMcap(dir + "/b.mcap", msgs, o);
+    const ExeResult e = runExe("--rosbag " + dir + "/b.mcap --out " + dir + "/x.rawlog", dir);
+    EXPECT_NE(e.code, 0);
+    EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << e.err;
+    EXPECT_NE(e.err.find(dir + "/b.mcap: MCAP: chunk (record 0x06 at byte 42, compression "
+                               "'brotli'): unknown compression"),
+              std::string::npos) << e.err;
+}

@@ -349,6 +349,23 @@ TEST(Rosbag, BadInputIsOneLineNamingFileAndTopic) {
     EXPECT_NE(e.find(dir + "/trunc.bag: "), std::string::npos) << e;
     EXPECT_TRUE(oneLine(e)) << e;
 
+    // Unknown chunk compression: every chunk header's "compression=none" made "compression=zzzz".
+    {
+        std::ifstream in(bag, std::ios::binary);
+        std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        const std::string from = "compression=none", to = "compression=zzzz";
+        size_t n = 0;
+        for (size_t pos = 0; (pos = bytes.find(from, pos)) != std::string::npos; ++n)
+            bytes.replace(pos, from.size(), to);
+        EXPECT_GT(n, 0u);
+        std::ofstream(dir + "/zzzz.bag", std::ios::binary) << bytes;
+    }
+    e = errorOf([&] { importRosbag(dir + "/zzzz.bag", roundTripParams(), dir + "/x.rawlog"); });
+    EXPECT_EQ(e.rfind(dir + "/zzzz.bag: ", 0), 0u) << e;
+    EXPECT_NE(e.find("zzzz"), std::string::npos) << e;
+    EXPECT_TRUE(oneLine(e)) << e;
+    std::cout << "[ ros1 unknown compression ] " << e << "\n";
+
     // PointCloud2 without x/y/z.
     {
         rosbag::Bag b(dir + "/noxyz.bag", rosbag::bagmode::Write);

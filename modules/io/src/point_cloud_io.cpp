@@ -1,4 +1,5 @@
 // Map/scan file dispatch by format, NaN dropping; KITTI .bin and text formats.
+#include <superloc/io/mrpt_maps.h>
 #include <superloc/io/point_cloud_io.h>
 
 #include <algorithm>
@@ -21,8 +22,10 @@ CloudFormat formatFromExtension(const std::string& path) {
     if (ext == ".ply") return CloudFormat::Ply;
     if (ext == ".bin") return CloudFormat::KittiBin;
     if (ext == ".txt" || ext == ".xyz") return CloudFormat::Text;
+    if (ext == ".simplemap") return CloudFormat::MrptSimpleMap;
+    if (ext == ".pointsmap") return CloudFormat::MrptPointsMap;
     throw std::runtime_error(path + ": unknown point-cloud extension '" + ext +
-                             "' (use .pcd .ply .bin .txt .xyz)");
+                             "' (use .pcd .ply .bin .txt .xyz .simplemap .pointsmap)");
 }
 
 size_t dropNonFinite(PointCloud& c) {
@@ -64,6 +67,12 @@ PointCloud loadPointCloud(const std::string& path, CloudFormat format, size_t* d
         case CloudFormat::Text:
             c = detail::readText(path);
             break;
+        case CloudFormat::MrptSimpleMap:
+            c = loadSimpleMap(path);
+            break;
+        case CloudFormat::MrptPointsMap:
+            c = loadMrptPointsMap(path);
+            break;
         case CloudFormat::Auto:
             break;
     }
@@ -98,6 +107,12 @@ void savePointCloud(const std::string& path, const PointCloud& cloud, CloudForma
         case CloudFormat::Text:
             detail::writeText(path, cloud);
             break;
+        case CloudFormat::MrptPointsMap:
+            saveMrptPointsMap(path, cloud);
+            break;
+        case CloudFormat::MrptSimpleMap:
+            throw std::runtime_error(path + ": cannot write a map as a .simplemap (keyframes and "
+                                     "observations); use .pointsmap for an MRPT point map");
         case CloudFormat::Auto:
             break;
     }

@@ -55,6 +55,21 @@ double unitScale(const std::string& unit, uint8_t datatype) {
 
 }  // namespace
 
+std::string printable(const std::string& s, size_t max_len) {
+    std::string out;
+    for (const char ch : s) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (out.size() >= max_len) return out + "...";
+        if (c >= 0x20 && c < 0x7f) {
+            out += ch;
+        } else {
+            const char* d = "0123456789abcdef";
+            out += {'\\', 'x', d[c >> 4], d[c & 15]};
+        }
+    }
+    return out;
+}
+
 PointCloud2Stats decodePointCloud2(const PointCloud2View& pc, const PointTimeOptions& opt,
                                    Scan& scan) {
     PointCloud2Stats st;
@@ -65,10 +80,11 @@ PointCloud2Stats decodePointCloud2(const PointCloud2View& pc, const PointTimeOpt
     for (const auto& f : pc.fields) {
         const size_t sz = typeSize(f.datatype);
         if (sz == 0)
-            throw std::runtime_error("PointCloud2 field '" + f.name + "' has unknown datatype " +
+            throw std::runtime_error("PointCloud2 field '" + printable(f.name) +
+                                     "' has unknown datatype " +
                                      std::to_string(int(f.datatype)));
         if (size_t(f.offset) + sz > pc.point_step)
-            throw std::runtime_error("PointCloud2 field '" + f.name +
+            throw std::runtime_error("PointCloud2 field '" + printable(f.name) +
                                      "' does not fit in point_step " +
                                      std::to_string(pc.point_step));
     }
@@ -88,7 +104,8 @@ PointCloud2Stats decodePointCloud2(const PointCloud2View& pc, const PointTimeOpt
     } else if (opt.field != "none") {
         ft = findField(pc, opt.field);
         if (!ft)
-            throw std::runtime_error("PointCloud2 has no per-point time field '" + opt.field +
+            throw std::runtime_error("PointCloud2 has no per-point time field '" +
+                                     printable(opt.field) +
                                      "' ([rosbag] point_time_field)");
     }
     if (opt.reference != "auto" && opt.reference != "relative" && opt.reference != "absolute")
@@ -96,6 +113,11 @@ PointCloud2Stats decodePointCloud2(const PointCloud2View& pc, const PointTimeOpt
                                  "' is not auto, relative or absolute");
     const double tscale = ft ? unitScale(opt.unit, ft->datatype) : 1.0;
 
+    if (n == 0) {  // e.g. width 0 with a huge height: nothing to read (found by fuzz_cdr)
+        scan = Scan();
+        scan.t = pc.stamp;
+        return st;
+    }
     const bool swap = pc.is_bigendian != (__BYTE_ORDER__ == __ORDER_BIG_ENDIAN__);
     const bool fast_xyz = !swap && fx->datatype == 7 && fy->datatype == 7 && fz->datatype == 7;
     scan = Scan();

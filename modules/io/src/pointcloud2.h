@@ -41,6 +41,10 @@ struct PointCloud2Stats {
     bool time_absolute = false;   ///< the field held absolute times
 };
 
+/// `s` as it may appear inside a one-line error message: control and non-ASCII bytes as \xNN,
+/// cut to `max_len` characters with "..." (names read from a file can hold anything).
+std::string printable(const std::string& s, size_t max_len = 64);
+
 /// Decodes x, y, z (+ intensity when present, as float) and per-point time relative to
 /// `stamp` into scan.points/intensity/rel_time (scan.t = stamp). Throws std::runtime_error with
 /// a short reason (no file/topic: the caller adds them) when x/y/z are missing, a field does not

@@ -34,16 +34,21 @@ double median(std::vector<float> v) {
 }  // namespace
 
 std::string mapAppUsage() {
-    return "Usage: superloc-map --rawlog FILE [--poses TUM] [--voxel M] --out MAP.pcd\n"
-           "                    [--min-range M] [--max-range M] [--body-poses] [--no-normals]\n"
-           "                    [--stats] [--config INI] [--set rawlog.key=value]...\n"
-           "Builds a prior map from a rawlog's LiDAR scans placed at their poses.\n"
+    return "Usage: superloc-map (--rawlog FILE [--poses TUM] | --simplemap FILE) [--voxel M]\n"
+           "                    --out MAP.pcd [--min-range M] [--max-range M] [--body-poses]\n"
+           "                    [--no-normals] [--stats] [--config INI]\n"
+           "                    [--set rawlog.key=value]...\n"
+           "Builds a prior map from a rawlog's LiDAR scans placed at their poses, or from an MRPT\n"
+           "simplemap's keyframes.\n"
            "  --rawlog FILE   input rawlog (CObservationPointCloud/Velodyne/RotatingScan scans)\n"
+           "  --simplemap F   input MRPT .simplemap (CSimpleMap): every point-cloud-like\n"
+           "                  observation at its keyframe pose (PDF mean) and sensorPose\n"
            "  --poses TUM     scan poses T_map_lidar (t x y z qx qy qz qw), interpolated at each\n"
            "                  scan's time; default: the rawlog's `gt` CObservationRobotPose\n"
            "  --voxel M       output voxel size [m], each voxel keeps its centroid (default 0.1;\n"
            "                  0 keeps every point)\n"
-           "  --out FILE      output map: .pcd (binary), .ply, .bin (KITTI) or .txt\n"
+           "  --out FILE      output map: .pcd (binary), .ply, .bin (KITTI), .txt or .pointsmap\n"
+           "                  (a serialized MRPT CPointsMapXYZI)\n"
            "  --min-range M   drop scan points closer than M to the sensor (default 0.5)\n"
            "  --max-range M   drop scan points farther than M (default 0: no limit)\n"
            "  --body-poses    the poses are T_map_imu: apply each scan's sensorPose too\n"
@@ -63,6 +68,7 @@ MapAppArgs parseMapAppArgs(int argc, const char* const* argv) {
         const auto value = [&] { return flagValue(argc, argv, i); };
         if (flag == "--help" || flag == "-h") a.help = true;
         else if (flag == "--rawlog") a.build.rawlog = value();
+        else if (flag == "--simplemap") a.build.simplemap = value();
         else if (flag == "--poses") a.build.poses_tum = value();
         else if (flag == "--voxel") a.build.voxel = parseNumber(flag, value());
         else if (flag == "--out") a.out = value();
@@ -76,11 +82,17 @@ MapAppArgs parseMapAppArgs(int argc, const char* const* argv) {
         else throw std::runtime_error("unknown argument '" + flag + "' (see --help)");
     }
     if (a.help) return a;
-    if (a.build.rawlog.empty()) throw std::runtime_error("missing --rawlog FILE (see --help)");
+    if (a.build.rawlog.empty() == a.build.simplemap.empty())
+        throw std::runtime_error("give one of --rawlog FILE or --simplemap FILE (see --help)");
+    if (!a.build.simplemap.empty() && !a.build.poses_tum.empty())
+        throw std::runtime_error("--poses goes with --rawlog; a simplemap holds its own poses");
     if (a.out.empty()) throw std::runtime_error("missing --out MAP.pcd (see --help)");
-    io::formatFromExtension(a.out);  // fail before the work, not after it
-    if (!std::filesystem::exists(a.build.rawlog))
+    if (io::formatFromExtension(a.out) == io::CloudFormat::MrptSimpleMap)
+        throw std::runtime_error(a.out + ": cannot write a .simplemap; use .pointsmap");
+    if (!a.build.rawlog.empty() && !std::filesystem::exists(a.build.rawlog))
         throw std::runtime_error(a.build.rawlog + ": no such rawlog");
+    if (!a.build.simplemap.empty() && !std::filesystem::exists(a.build.simplemap))
+        throw std::runtime_error(a.build.simplemap + ": no such simplemap");
 
     mrpt::config::CConfigFileMemory cfg;
     std::string source = "--set";

@@ -1,6 +1,7 @@
 // MapBuilder: scans at their poses into a running-centroid voxel grid.
 #include <superloc/core/se3.h>
 #include <superloc/core/voxel.h>
+#include <superloc/io/mrpt_maps.h>
 #include <superloc/io/tum.h>
 #include <mrpt/system/CTicTac.h>
 #include <superloc/map/map_builder.h>
@@ -41,7 +42,8 @@ Trajectory groundTruthFromRawlog(const MapBuildOptions& o) {
 
 MapBuilder::MapBuilder(const MapBuildOptions& options)
     : mrpt::system::COutputLogger("MapBuilder"), opts_(options) {
-    if (opts_.rawlog.empty()) throw std::runtime_error("no input rawlog given (--rawlog FILE)");
+    if (opts_.rawlog.empty() == opts_.simplemap.empty())
+        throw std::runtime_error("give one input: --rawlog FILE or --simplemap FILE");
     if (!(opts_.voxel >= 0) || !std::isfinite(opts_.voxel))
         throw std::runtime_error("--voxel must be >= 0 m");
     if (!(opts_.min_range >= 0) || !(opts_.max_range >= 0))
@@ -51,10 +53,6 @@ MapBuilder::MapBuilder(const MapBuildOptions& options)
 
 PointCloud MapBuilder::build(const io::ProgressFn& progress) {
     result_ = MapBuildResult{};
-    const Trajectory traj =
-        opts_.poses_tum.empty() ? groundTruthFromRawlog(opts_) : io::loadTum(opts_.poses_tum);
-    if (traj.empty()) throw std::runtime_error(opts_.poses_tum + ": no poses");
-    result_.poses = traj.size();
 
     const float voxel = static_cast<float>(opts_.voxel);
     const float min_r2 = static_cast<float>(opts_.min_range * opts_.min_range);
@@ -67,22 +65,8 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
     std::vector<Vec3f> all_views;
     bool have_intensity = true;
 
-    io::RawlogReader reader(opts_.rawlog, opts_.rawlog_params);
-    io::RawlogItem item;
-    size_t lidar_seen = 0;
-    while (reader.next(item)) {
-        if (item.kind != io::RawlogItem::Kind::Lidar) continue;
-        const Scan& scan = item.scan();
-        ++lidar_seen;
-        const auto T_map_x = interpolateAt(traj, scan.t, opts_.max_pose_gap, 1e-4);
-        if (!T_map_x) {
-            if (++result_.scans_without_pose == 1)
-                MRPT_LOG_WARN_STREAM(
-                    opts_.rawlog << ": scan at t=" << scan.t
-                                 << " has no pose (outside the poses' time span); skipped, counted");
-            continue;
-        }
-        const SE3d T = opts_.body_poses ? SE3d(*T_map_x * scan.T_imu_lidar) : *T_map_x;
+    // One scan at its pose T = T_map_lidar into the voxel sums.
+    const auto accumulate = [&](const Scan& scan, const SE3d& T) {
         const Eigen::Matrix3f R = T.linear().cast<float>();
         const Vec3d t = T.translation();
         if (scan.intensity.size() != scan.size()) have_intensity = false;
@@ -110,12 +94,49 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
             ++s.count;
         }
         ++result_.scans_used;
-        if (progress) progress(std::min(lidar_seen, traj.size()), traj.size());
+    };
+
+    if (!opts_.simplemap.empty()) {
+        // MRPT simplemap: each keyframe's scans at the keyframe pose (its PDF's mean).
+        const auto st = io::forEachSimpleMapScan(
+            opts_.simplemap, [&](const Scan& scan, const SE3d& T_map_body) {
+                accumulate(scan, T_map_body * scan.T_imu_lidar);
+                if (progress) progress(result_.scans_used, result_.scans_used);
+            },
+            opts_.rawlog_params);
+        result_.poses = st.keyframes;
+        if (result_.scans_used == 0)
+            throw std::runtime_error(opts_.simplemap + ": no point-cloud observations in its " +
+                                     std::to_string(st.keyframes) + " keyframes");
+    } else {
+        const Trajectory traj =
+            opts_.poses_tum.empty() ? groundTruthFromRawlog(opts_) : io::loadTum(opts_.poses_tum);
+        if (traj.empty()) throw std::runtime_error(opts_.poses_tum + ": no poses");
+        result_.poses = traj.size();
+        io::RawlogReader reader(opts_.rawlog, opts_.rawlog_params);
+        io::RawlogItem item;
+        size_t lidar_seen = 0;
+        while (reader.next(item)) {
+            if (item.kind != io::RawlogItem::Kind::Lidar) continue;
+            const Scan& scan = item.scan();
+            ++lidar_seen;
+            const auto T_map_x = interpolateAt(traj, scan.t, opts_.max_pose_gap, 1e-4);
+            if (!T_map_x) {
+                if (++result_.scans_without_pose == 1)
+                    MRPT_LOG_WARN_STREAM(opts_.rawlog
+                                         << ": scan at t=" << scan.t
+                                         << " has no pose (outside the poses' time span); "
+                                            "skipped, counted");
+                continue;
+            }
+            accumulate(scan, opts_.body_poses ? SE3d(*T_map_x * scan.T_imu_lidar) : *T_map_x);
+            if (progress) progress(std::min(lidar_seen, traj.size()), traj.size());
+        }
+        if (result_.scans_used == 0)
+            throw std::runtime_error(
+                opts_.rawlog + ": no scan could be placed (" + std::to_string(lidar_seen) +
+                " LiDAR observations, none within the poses' time span)");
     }
-    if (result_.scans_used == 0)
-        throw std::runtime_error(
-            opts_.rawlog + ": no scan could be placed (" + std::to_string(lidar_seen) +
-            " LiDAR observations, none within the poses' time span)");
 
     PointCloud map;
     std::vector<Vec3f> views;

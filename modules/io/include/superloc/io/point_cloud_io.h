@@ -1,5 +1,7 @@
 // Map and scan files: PCD (binary and ASCII, via PCL), PLY (ASCII and binary little-endian),
-// KITTI .bin (float32 x y z reflectance) and MRPT text point maps (.txt/.xyz: "x y z [i]").
+// KITTI .bin (float32 x y z reflectance), MRPT text point maps (.txt/.xyz: "x y z [i]"), MRPT
+// .simplemap (every scan at its keyframe pose) and serialized MRPT point maps (.pointsmap),
+// see mrpt_maps.h.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -9,9 +11,14 @@
 namespace superloc::io {
 
 /// Ply is written binary little-endian; PlyAscii writes ASCII PLY (both are read as Ply).
-enum class CloudFormat { Auto, PcdBinary, PcdAscii, Ply, KittiBin, Text, PlyAscii };
+enum class CloudFormat {
+    Auto, PcdBinary, PcdAscii, Ply, KittiBin, Text, PlyAscii,
+    MrptSimpleMap,  ///< .simplemap: read only
+    MrptPointsMap   ///< .pointsmap: a serialized CPointsMap (CPointsMapXYZI with intensity)
+};
 
-/// Loads a point cloud; the format is chosen by extension (.pcd .ply .bin .txt .xyz) unless
+/// Loads a point cloud; the format is chosen by extension (.pcd .ply .bin .txt .xyz .simplemap
+/// .pointsmap) unless
 /// given. NaN/inf points are dropped and counted in `dropped` (if not null). Throws
 /// std::runtime_error with a one-line message naming the file on a missing, truncated or
 /// malformed file.

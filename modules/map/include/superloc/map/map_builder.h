@@ -12,7 +12,10 @@
 namespace superloc::map {
 
 struct MapBuildOptions {
-    std::string rawlog;     ///< input rawlog (required)
+    std::string rawlog;     ///< input rawlog (this or `simplemap`)
+    /// input MRPT .simplemap instead of a rawlog: each keyframe's point-cloud observations at
+    /// the keyframe pose (the mean of its PDF) times their sensorPose; `poses_tum` unused
+    std::string simplemap;
     std::string poses_tum;  ///< TUM poses of the scans; empty = the rawlog's `gt` poses
     double voxel = 0.1;     ///< [m] output voxel size; each voxel keeps its points' centroid (0 = all)
     double min_range = 0.5; ///< [m] scan points closer to the sensor are dropped (e.g. the carrier)
