@@ -220,13 +220,17 @@ RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& p,
         // Pass 1: static transforms, and the frames of the LiDAR and IMU.
         StaticTf tf;
         if (!tf_topic.empty())
-            for (const auto& m : rosbag::View(b, rosbag::TopicQuery(tf_topic)))
-                for (const auto& x : instantiate<tf2_msgs::TFMessage>(m, bag)->transforms) {
+            for (const auto& m : rosbag::View(b, rosbag::TopicQuery(tf_topic))) {
+                // Hold the message: a range-for over instantiate(...)->transforms iterates a
+                // member of a temporary freed before the loop body (found by ASan).
+                const auto msg = instantiate<tf2_msgs::TFMessage>(m, bag);
+                for (const auto& x : msg->transforms) {
                     const auto& q = x.transform.rotation;
                     const auto& t = x.transform.translation;
                     tf.add(x.header.frame_id, x.child_frame_id,
                            makePose(t.x, t.y, t.z, q.x, q.y, q.z, q.w));
                 }
+            }
         const auto firstFrame = [&](const std::string& topic, auto tag) {
             using Msg = typename decltype(tag)::type;
             for (const auto& m : rosbag::View(b, rosbag::TopicQuery(topic)))
