@@ -24,6 +24,14 @@ cmake -S . -B $B -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSUPERLOC_SANITIZE=ON -DSUPERLOC_BUILD_BENCH=OFF -DSUPERLOC_WERROR=$WERROR
 cmake --build $B -j "$(nproc)"
 
-# Left out (measured on 2 cores, sanitized): see CONTRIBUTING.md "Sanitizers".
-EXCLUDE='^(BenchQuick\.Smoke|Install\.ConsumerProject)$'
+# Left out: the longest runs under the sanitizers (seconds measured sanitized, -j2 on a loaded
+# 2-core machine), whose code paths the tests that stay cover in shorter form:
+#   BenchQuick.Smoke (Release 337), Install.ConsumerProject (a CMake install + consumer build, 73)
+#   LocalizeSim.FeaturelessCorridor* 175    the 3 s office and the simulated fault suite stay
+#   RealSplitRuns.* 330, Basin.* 86         real splits: FaultsReal.Kitti* stay
+#   FaultsReal.Campus* 410                  campus import + map under ASan (green when run by hand)
+#   RawlogInfo.EveryWorldPassesRawlogEdit 90, ScanOnMap.{CorridorCarTurningAtSpeed,OfficeHandheld} 124
+#   KittiFixture.EveryScanLocalized* 84     KittiFixture's command-line and JSON cases stay
+#   MapReal.*                               map quality on real scans; the map unit tests stay
+EXCLUDE='^(BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*)$'
 cd $B && ctest --output-on-failure -j "$(nproc)" --timeout 900 -E "$EXCLUDE" "$@"
