@@ -103,6 +103,26 @@ TEST(Preintegration, IntervalIsCutAtBothEnds) {
     EXPECT_EQ(integrateInterval({}, 0, 1, none), 0u);
 }
 
+// An IMU dropout inside the interval: integrateInterval() would hold the last sample before the
+// hole across it (the fault suite's LiDAR dropout over an IMU gap ended 1 m off, unflagged), so
+// the localizer asks coversInterval() first and predicts without the IMU.
+TEST(Preintegration, CoversIntervalRejectsHoles) {
+    std::vector<ImuSample> s;
+    for (int k = 0; k <= 400; ++k) {  // 200 Hz over [0, 2] s with no sample in (0.8, 1.3)
+        const double t = k * 0.005;
+        if (t > 0.8 + 1e-9 && t < 1.3 - 1e-9) continue;
+        s.push_back(ImuSample{t, Vec3d::Zero(), Vec3d::Zero()});
+    }
+    EXPECT_TRUE(coversInterval(s, 0.1, 0.8, 0.05));
+    EXPECT_TRUE(coversInterval(s, 1.3, 1.9, 0.05));
+    EXPECT_TRUE(coversInterval(s, 1.9, 2.03, 0.05)) << "the ends keep their tolerance";
+    EXPECT_FALSE(coversInterval(s, 0.7, 1.4, 0.05)) << "a 0.5 s hole inside";
+    EXPECT_FALSE(coversInterval(s, 0.85, 1.2, 0.05)) << "inside the hole";
+    EXPECT_FALSE(coversInterval(s, 1.0, 1.5, 0.05)) << "starts in the hole";
+    EXPECT_FALSE(coversInterval(s, 1.9, 2.2, 0.05)) << "past the end";
+    EXPECT_FALSE(coversInterval({}, 0, 1, 0.05));
+}
+
 TEST(RestInit, FindsGyroBiasAndUpDirection) {
     ImuParams p;
     std::vector<ImuSample> s;

@@ -90,6 +90,17 @@ NavState Preintegration::predict(const NavState& i, const ImuBias& b, const Vec3
     return j;
 }
 
+bool coversInterval(const std::vector<ImuSample>& samples, double t0, double t1, double max_gap) {
+    if (samples.empty() || samples.front().t > t0 + max_gap || samples.back().t < t1 - max_gap) return false;
+    // From the last sample at or before t0 (or the first one) to the first at or after t1.
+    auto it = std::upper_bound(samples.begin(), samples.end(), t0,
+                               [](double t, const ImuSample& s) { return t < s.t; });
+    if (it != samples.begin()) --it;
+    for (; it + 1 != samples.end() && it->t < t1; ++it)
+        if ((it + 1)->t - it->t > max_gap) return false;
+    return true;
+}
+
 size_t integrateInterval(
     const std::vector<ImuSample>& samples, double t0, double t1, Preintegration& pre) {
     if (samples.empty() || t1 <= t0) return 0;

@@ -1,5 +1,6 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <superloc/core/config.h>
+#include <superloc/core/errors.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/tum.h>
 #include <superloc/core/cli.h>
@@ -203,6 +204,7 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     };
     if (T0 && checkInitial(*T0, "--initial-pose")) loc.setInitialPose(*T0);
     io::RawlogReader reader(run_.rawlog, rawlog_);
+    reader.logger().setMinLoggingLevel(getMinLoggingLevel());  // --quiet: errors only
     RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0);
     const bool body = loc_.loc.output_frame == "body";
     // Observability scan (issue 5): correspondence points coloured by translation label.
@@ -220,84 +222,109 @@ int LocalizeApp::run(const std::function<void(const FrameReport&)>& on_frame) {
     io::RawlogItem item;
     static const std::vector<Vec3f> kNone;
     bool in_divergence = false;
-    while (reader.next(item)) {
-        switch (item.kind) {
-            case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
-            case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
-            case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
-            case io::RawlogItem::Kind::Lidar: {
-                if (!T0_tum.empty() && summary_.frames == 0) {
-                    // The pose at the first scan read (e.g. the first odd scan of an even/odd
-                    // split); the file's first pose when the file does not cover that time.
-                    const auto at = interpolateAt(T0_tum, item.scan().t, 1.0, 0.05);
-                    if (!at)
-                        MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
-                                          "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
-                    const SE3d T_first = at ? *at : T0_tum.front().pose;
-                    if (checkInitial(T_first, run_.initial_pose_tum)) loc.setInitialPose(T_first);
+    // The statistics of the frames processed so far, and summary.json, localized_map.pcd and
+    // observability_scan.ply from them: at the end of the rawlog, and also when the run stops on
+    // an error (doc/localizer.md "Faults"), so that every output says what was done.
+    const auto finish = [&](const std::string& error) {
+        summary_.rawlog = reader.stats();
+        summary_.status = error.empty() ? "ok" : "failed";
+        summary_.error = error;
+        summary_.ms_median = percentile(ms, 0.5);
+        summary_.ms_p95 = percentile(ms, 0.95);
+        summary_.cpu_ms_median = percentile(cpu, 0.5);
+        double sum = 0;
+        for (double v : ms) sum += v;
+        summary_.ms_mean = ms.empty() ? 0 : sum / static_cast<double>(ms.size());
+        summary_.fps = summary_.ms_mean > 0 ? 1000.0 / summary_.ms_mean : 0;
+        summary_.stage_median = {percentile(st[0], 0.5), percentile(st[1], 0.5), percentile(st[2], 0.5),
+                                 percentile(st[3], 0.5), percentile(st[4], 0.5), summary_.ms_median};
+        // ATE against the rawlog's own ground truth, when it has one (same frame as the output).
+        double se = 0;
+        for (const auto& e : est) {
+            const auto g = interpolateAt(gt, e.t, 1.0, 1e-3);
+            if (!g) continue;
+            const double d = (g->translation() - e.pose.translation()).norm();
+            se += d * d;
+            summary_.ate_max = std::max(summary_.ate_max, d);
+            summary_.gt_matched++;
+        }
+        if (summary_.gt_matched) summary_.ate_rmse = std::sqrt(se / static_cast<double>(summary_.gt_matched));
+        out.finish(summary_);
+        obs_scan.write(obs_path);
+    };
+    try {
+        while (reader.next(item)) {
+            switch (item.kind) {
+                case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
+                case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
+                case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
+                case io::RawlogItem::Kind::Lidar: {
+                    if (!T0_tum.empty() && summary_.frames == 0) {
+                        // The pose at the first scan read (e.g. the first odd scan of an even/odd
+                        // split); the file's first pose when the file does not cover that time.
+                        const auto at = interpolateAt(T0_tum, item.scan().t, 1.0, 0.05);
+                        if (!at)
+                            MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
+                                              "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
+                        const SE3d T_first = at ? *at : T0_tum.front().pose;
+                        if (checkInitial(T_first, run_.initial_pose_tum)) loc.setInitialPose(T_first);
+                    }
+                    const FrameReport r = loc.process(item.scan());
+                    const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
+                    out.addFrame(r, T, run_.save_localized_map
+                                           ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
+                                           : kNone);
+                    est.push_back({r.t, T, {}});
+                    loc.observabilityPoints(obs_pts, obs_labels);
+                    obs_scan.add(obs_pts, obs_labels);
+                    if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
+                    ms.push_back(r.ms.total);
+                    cpu.push_back(r.ms.total_cpu);
+                    st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);
+                    st[2].push_back(r.ms.associate), st[3].push_back(r.ms.risk), st[4].push_back(r.ms.solve);
+                    summary_.frames++;
+                    summary_.diverged += r.diverged;
+                    summary_.converged += r.converged;
+                    summary_.used_imu += r.used_imu;
+                    summary_.with_prior += r.prior_used;
+                    summary_.recovered += r.recovered;
+                    summary_.health[static_cast<size_t>(r.health)]++;
+                    const bool flagged = !r.degenerate_axes.empty();
+                    summary_.flagged += flagged;
+                    summary_.flagged_without_prior += flagged && !r.prior_used;
+                    for (int k = 0; k < 6; ++k) summary_.flagged_axis[k] += r.degenerate[k];
+                    // Log divergence when it starts and ends, not on every frame of a long episode.
+                    if (r.diverged != in_divergence)
+                        MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
+                                          r.diverged ? "diverged" : "tracking again",
+                                          r.diverged_reason.c_str(), r.inlier_ratio);
+                    in_divergence = r.diverged;
+                    if (on_frame) on_frame(r);
+                    break;
                 }
-                const FrameReport r = loc.process(item.scan());
-                const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
-                out.addFrame(r, T, run_.save_localized_map
-                                       ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
-                                       : kNone);
-                est.push_back({r.t, T, {}});
-                loc.observabilityPoints(obs_pts, obs_labels);
-                obs_scan.add(obs_pts, obs_labels);
-                if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
-                ms.push_back(r.ms.total);
-                cpu.push_back(r.ms.total_cpu);
-                st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);
-                st[2].push_back(r.ms.associate), st[3].push_back(r.ms.risk), st[4].push_back(r.ms.solve);
-                summary_.frames++;
-                summary_.diverged += r.diverged;
-                summary_.converged += r.converged;
-                summary_.used_imu += r.used_imu;
-                summary_.with_prior += r.prior_used;
-                summary_.recovered += r.recovered;
-                summary_.health[static_cast<size_t>(r.health)]++;
-                const bool flagged = !r.degenerate_axes.empty();
-                summary_.flagged += flagged;
-                summary_.flagged_without_prior += flagged && !r.prior_used;
-                for (int k = 0; k < 6; ++k) summary_.flagged_axis[k] += r.degenerate[k];
-                // Log divergence when it starts and ends, not on every frame of a long episode.
-                if (r.diverged != in_divergence)
-                    MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
-                                      r.diverged ? "diverged" : "tracking again",
-                                      r.diverged_reason.c_str(), r.inlier_ratio);
-                in_divergence = r.diverged;
-                if (on_frame) on_frame(r);
-                break;
             }
         }
+        if (summary_.frames == 0) throw std::runtime_error(run_.rawlog + ": no LiDAR scan in the rawlog");
+    } catch (const std::exception& e) {
+        // Stopped on a fault the run cannot get past (a corrupt entry, time going backwards beyond
+        // the reorder window, no scan at all): the frames so far are in trajectory.tum and
+        // frames.csv already; summary.json says "failed" and why, then the error goes on to the
+        // caller (one line on stderr, exit code 1).
+        try {
+            finish(oneLineError(e));
+        } catch (const std::exception& e2) {
+            MRPT_LOG_ERROR_FMT("could not write the outputs after the error: %s", oneLineError(e2).c_str());
+        }
+        throw;
     }
-    if (summary_.frames == 0) throw std::runtime_error(run_.rawlog + ": no LiDAR scan in the rawlog");
-    summary_.ms_median = percentile(ms, 0.5);
-    summary_.ms_p95 = percentile(ms, 0.95);
-    summary_.cpu_ms_median = percentile(cpu, 0.5);
-    double sum = 0;
-    for (double v : ms) sum += v;
-    summary_.ms_mean = sum / static_cast<double>(ms.size());
-    summary_.fps = summary_.ms_mean > 0 ? 1000.0 / summary_.ms_mean : 0;
-    summary_.stage_median = {percentile(st[0], 0.5), percentile(st[1], 0.5), percentile(st[2], 0.5),
-                             percentile(st[3], 0.5), percentile(st[4], 0.5), summary_.ms_median};
-    // ATE against the rawlog's own ground truth, when it has one (same frame as the output).
-    double se = 0;
-    for (const auto& e : est) {
-        const auto g = interpolateAt(gt, e.t, 1.0, 1e-3);
-        if (!g) continue;
-        const double d = (g->translation() - e.pose.translation()).norm();
-        se += d * d;
-        summary_.ate_max = std::max(summary_.ate_max, d);
-        summary_.gt_matched++;
+    if (summary_.health[2] == summary_.frames) {
+        const std::string error = "all " + std::to_string(summary_.frames) + " frames of " + run_.rawlog +
+                                  " are lost: no pose of the scans in " + run_.map +
+                                  " was found (frames.csv health_reason says why per frame)";
+        finish(error);
+        throw std::runtime_error(error);
     }
-    if (summary_.gt_matched) summary_.ate_rmse = std::sqrt(se / static_cast<double>(summary_.gt_matched));
-    out.finish(summary_);
-    obs_scan.write(obs_path);
-    if (summary_.health[2] == summary_.frames)
-        throw std::runtime_error("all " + std::to_string(summary_.frames) + " frames of " + run_.rawlog +
-                                 " are lost: no pose of the scans in " + run_.map +
-                                 " was found (frames.csv health_reason says why per frame)");
+    finish("");
     MRPT_LOG_INFO_FMT("%zu frames (%zu ok, %zu degraded, %zu lost), median %.2f ms, p95 %.2f ms per frame -> %s",
                       summary_.frames, summary_.health[0], summary_.health[1], summary_.health[2], summary_.ms_median,
                       summary_.ms_p95, run_.out.c_str());

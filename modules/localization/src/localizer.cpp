@@ -86,8 +86,7 @@ void Localizer::addOdomAlt(const PoseStamped& p) {
 
 Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
     Prediction pr;
-    const bool imu_covers = params_.loc.use_imu && !imu_.empty() && imu_.front().t <= prev_.t + 0.05 &&
-                            imu_.back().t >= t - 0.05;
+    const bool imu_covers = params_.loc.use_imu && imu::coversInterval(imu_, prev_.t, t, 0.05);
     if (imu_covers && imu::integrateInterval(imu_, prev_.t, t, pre) > 0) {
         // Step 1 with IMU: Forster eq. 33 from the previous state.
         const imu::NavState nav = pre.predict(prev_.nav(), prev_.bias(), g_map_);

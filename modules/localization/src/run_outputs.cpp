@@ -117,7 +117,10 @@ io::Json summaryJson(const RunSummary& s) {
     const auto& fa = s.flagged_axis;
     // -1 marks "no ground truth in the rawlog": null.
     const auto orNull = [](double v) { return v < 0 ? io::Json(nullptr) : io::Json(v); };
-    return {{"method", s.method},
+    const auto& rs = s.rawlog;
+    return {{"status", s.status},
+            {"error", s.error.empty() ? io::Json(nullptr) : io::Json(s.error)},
+            {"method", s.method},
             {"frames", s.frames},
             {"frames_diverged", s.diverged},
             {"frames_converged", s.converged},
@@ -150,7 +153,17 @@ io::Json summaryJson(const RunSummary& s) {
             {"map_prepare_s", s.map_prepare_s},
             {"gt_frames_matched", s.gt_matched},
             {"ate_rmse_vs_rawlog_gt", orNull(s.ate_rmse)},
-            {"ate_max_vs_rawlog_gt", orNull(s.ate_max)}};
+            {"ate_max_vs_rawlog_gt", orNull(s.ate_max)},
+            {"rawlog",
+             {{"scans_read", rs.lidar},
+              {"scans_empty_skipped", rs.empty_scans},
+              {"scans_unselected", rs.unselected_scans},
+              {"invalid_points_dropped", rs.invalid_points},
+              {"imu", rs.imu},
+              {"imu_invalid_skipped", rs.invalid_imu},
+              {"odom_alt", rs.odom_alt},
+              {"gt", rs.gt},
+              {"unknown_observations", rs.unknown_observations}}}};
 }
 
 void RunOutputs::finish(const RunSummary& s) {

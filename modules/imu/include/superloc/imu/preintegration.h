@@ -78,6 +78,12 @@ class Preintegration {
     Mat9d cov_ = Mat9d::Zero();
 };
 
+/// True when a time-sorted buffer covers [t0, t1] densely enough to integrate: a sample at or
+/// before t0 + max_gap, one at or after t1 - max_gap, and no two consecutive samples in between
+/// farther apart than max_gap. integrateInterval() holds each sample until the next one, so a
+/// hole in the data (an IMU dropout) would otherwise be bridged by one stale sample.
+bool coversInterval(const std::vector<ImuSample>& samples, double t0, double t1, double max_gap);
+
 /// Integrates the samples of a time-sorted buffer over [t0, t1] into `pre` (which is not reset).
 /// Each sample is held from its time to the next one; the interval ends are cut exactly, and a
 /// first sample later than t0 is extended back to t0. Returns how many samples contributed

@@ -8,6 +8,7 @@
 #include <superloc/core/types.h>
 #include <superloc/core/voxel.h>
 #include <superloc/io/json_file.h>
+#include <superloc/io/rawlog.h>
 #include <superloc/localization/frame_report.h>
 
 #include <fstream>
@@ -31,6 +32,9 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T);
 /// Statistics of a run for summary.json.
 struct RunSummary {
     std::string method;
+    std::string status = "ok";  ///< "ok", or "failed": the run stopped on an error (exit code 1)
+    std::string error;          ///< the one-line reason when it failed
+    io::RawlogStats rawlog;     ///< what the rawlog reader read and skipped (e.g. empty scans)
     size_t frames = 0, diverged = 0, converged = 0, used_imu = 0;
     size_t with_prior = 0;               ///< frames whose solve had an odom_alt prior
     size_t recovered = 0;                ///< frames replaced by a verified relocalization
