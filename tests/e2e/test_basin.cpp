@@ -32,18 +32,7 @@ struct BasinResult {
     std::vector<double> errors;
 };
 
-/// The default INI (ini/localize.ini) with `sets` applied.
-LocalizerParams defaultParams(const std::vector<std::string>& sets) {
-    std::ifstream f(superloc::testing::sourcePath("ini/localize.ini"));
-    std::stringstream text;
-    text << f.rdbuf();
-    mrpt::config::CConfigFileMemory ini(text.str());  // never written back to the file
-    for (const auto& s : sets) {
-        const auto dot = s.find('.'), eq = s.find('=');
-        ini.write(s.substr(0, dot), s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
-    }
-    return LocalizerParams::load(ini, "ini/localize.ini");
-}
+using superloc::testing::defaultParams;
 
 BasinResult basin(const std::shared_ptr<const map::PriorMap>& map, const LocalizerParams& params,
                   const std::vector<Scan>& scans, const std::vector<SE3d>& T_gt, unsigned seed) {

@@ -25,18 +25,7 @@ using namespace superloc::localization;
 
 namespace {
 
-/// The default INI with `sets` applied.
-LocalizerParams defaultParams(const std::vector<std::string>& sets) {
-    std::ifstream f(superloc::testing::sourcePath("ini/localize.ini"));
-    std::stringstream text;
-    text << f.rdbuf();
-    mrpt::config::CConfigFileMemory ini(text.str());
-    for (const auto& s : sets) {
-        const auto dot = s.find('.'), eq = s.find('=');
-        ini.write(s.substr(0, dot), s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
-    }
-    return LocalizerParams::load(ini, "ini/localize.ini");
-}
+using superloc::testing::defaultParams;
 
 struct Tally {
     int accepted_right = 0;  ///< within 0.3 m / 3 deg

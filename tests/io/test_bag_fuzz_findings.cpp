@@ -17,14 +17,7 @@ namespace {
 using namespace superloc;
 namespace bw = superloc::testing::bag;
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
+using superloc::testing::errorOf;
 
 std::vector<bw::Message> smallBag() {
     std::vector<bw::Message> msgs;

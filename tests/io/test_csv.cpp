@@ -16,14 +16,7 @@ std::string write(const std::string& path, const std::string& text) {
     return path;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
+using superloc::testing::errorOf;
 
 }  // namespace
 

@@ -43,14 +43,7 @@ std::vector<const Scan*> scansOf(const std::vector<RawlogItem>& items) {
     return out;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
+using superloc::testing::errorOf;
 
 bool oneLine(const std::string& e) { return !e.empty() && e.find('\n') == std::string::npos; }
 

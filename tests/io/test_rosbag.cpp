@@ -34,14 +34,7 @@ std::vector<RawlogItem> readAll(const std::string& path) {
     return items;
 }
 
-std::string errorOf(const std::function<void()>& f) {
-    try {
-        f();
-    } catch (const std::exception& e) {
-        return e.what();
-    }
-    return "";
-}
+using superloc::testing::errorOf;
 
 // --- bag writing helpers ---------------------------------------------------------------------
 

@@ -5,9 +5,21 @@
 
 #include <cctype>
 #include <filesystem>
+#include <functional>
+#include <stdexcept>
 #include <string>
 
 namespace superloc::testing {
+
+/// What `f` throws (its what()), or "" when it does not throw: for one-line error checks.
+inline std::string errorOf(const std::function<void()>& f) {
+    try {
+        f();
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
 
 /// ../shared/data (or the SUPERLOC_SHARED_DATA CMake cache path) joined with `rel`.
 inline std::string sharedData(const std::string& rel = "") {
