@@ -33,5 +33,8 @@ cmake --build $B -j "$(nproc)"
 #   RawlogInfo.EveryWorldPassesRawlogEdit 90, ScanOnMap.{CorridorCarTurningAtSpeed,OfficeHandheld} 124
 #   KittiFixture.EveryScanLocalized* 84     KittiFixture's command-line and JSON cases stay
 #   MapReal.*                               map quality on real scans; the map unit tests stay
-EXCLUDE='^(BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*)$'
+#   GlobalLocalization.*, GlobalSearchReal.*, KittiFixture.FarInitial*   global searches over the
+#                                           real splits (tens of seconds each in Release); the
+#                                           synthetic GlobalSearch.* and Health.* tests stay
+EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*)$'
 cd $B && ctest --output-on-failure -j "$(nproc)" --timeout 900 -E "$EXCLUDE" "$@"
