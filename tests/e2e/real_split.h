@@ -9,9 +9,7 @@
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
 #include <superloc/map/map_builder.h>
-#include <superloc/localization/localizer.h>
 #include <superloc/map/prior_map.h>
-#include <mrpt/config/CConfigFileMemory.h>
 #include <superloc_testing/testing.h>
 
 #include <filesystem>
@@ -74,20 +72,6 @@ inline void readScans(const std::string& rawlog, const std::string& scans, const
             out.push_back(it.scan());
             T_gt.push_back(*g);
         }
-}
-
-/// The default INI (ini/localize.ini) with `sets` ("section.key=value") applied; the file is
-/// never written back.
-inline localization::LocalizerParams defaultParams(const std::vector<std::string>& sets) {
-    std::ifstream f(sourcePath("ini/localize.ini"));
-    std::stringstream text;
-    text << f.rdbuf();
-    mrpt::config::CConfigFileMemory ini(text.str());
-    for (const auto& s : sets) {
-        const auto dot = s.find('.'), eq = s.find('=');
-        ini.write(s.substr(0, dot), s.substr(dot + 1, eq - dot - 1), s.substr(eq + 1));
-    }
-    return localization::LocalizerParams::load(ini, "ini/localize.ini");
 }
 
 }  // namespace superloc::testing

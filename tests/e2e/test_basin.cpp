@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <random>
 
+#include "default_params.h"
 #include "real_split.h"
 
 using namespace superloc;

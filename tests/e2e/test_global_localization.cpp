@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "default_params.h"
 #include "real_split.h"
 
 using namespace superloc;

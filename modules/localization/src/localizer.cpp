@@ -495,6 +495,10 @@ FrameReport Localizer::process(const Scan& scan) {
     } else if (in_doubt || rep.health == Health::Lost) {
         doubt_ = true;
     }
+    if (rep.health == Health::Ok)
+        imu_chain_ = true;
+    else if (!pred.used_imu)
+        imu_chain_ = false;
     if (rep.health != Health::Lost) {
         last_good_T_map_lidar_ = rep.T_map_lidar;
         last_good_t_ = scan.t;

@@ -148,12 +148,13 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         report(rep);
         return false;
     }
-    if (rep.health != Health::Lost && !reloc_pending_ && pred.used_imu &&
+    if (rep.health != Health::Lost && !reloc_pending_ && pred.used_imu && imu_chain_ &&
         (translationDistance(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_xyz ||
          rotationAngle(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_deg * kDeg)) {
         // A frame only in doubt, predicted by the IMU, is corrected, not moved to another place:
         // a pose that far from its own solve is another floor or another corridor (multifloor:
-        // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus).
+        // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus), and
+        // so may an IMU chain that started from such a frame (imu_chain_).
         restore(own);
         rr.detail = "too_far";
         report(rep);

@@ -137,6 +137,8 @@ class Localizer : public mrpt::system::COutputLogger {
     double last_good_t_ = 0;
     std::optional<fusion::FrameState> good_state_;  ///< state of the last frame not lost
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
+    /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
+    bool imu_chain_ = true;
     bool doubt_ = false;       ///< a frame in doubt was not settled by a search: confirm the next
     bool verifying_ = false;   ///< solving from a hypothesis: no odom_alt prior, no remap
     std::shared_ptr<const map::PriorMap> map_;
