@@ -80,7 +80,7 @@ std::vector<KittiScan> kittiScans(size_t n) {
     std::vector<KittiScan> out;
     double t;
     for (size_t i = 0; i < n && times >> t; ++i) {
-        char name[32];
+        char name[64];
         std::snprintf(name, sizeof(name), "/velodyne/%06zu.bin", i);
         out.push_back({t, slurp(dir + name)});
     }
