@@ -55,7 +55,7 @@ Tally eachScanOnItsOwn(const std::string& name, const std::string& data, const s
         loc.relocalize();
         const FrameReport r = loc.process(scans[i]);
         t.max_ms = std::max(t.max_ms, r.ms.total);
-        if (r.reloc.result == "accepted") {
+        if (r.reloc.outcome == RelocOutcome::Accepted) {
             const double dm = translationDistance(r.T_map_lidar, T_gt[i]);
             const double dd = rotationAngle(r.T_map_lidar, T_gt[i]) * 180 / M_PI;
             const bool right = dm <= 0.3 && dd <= 3.0, near = dm <= 0.5 && dd <= 5.0;
@@ -66,7 +66,7 @@ Tally eachScanOnItsOwn(const std::string& name, const std::string& data, const s
             if (!near) ADD_FAILURE() << name << " scan " << i << ": accepted " << dm << " m / " << dd << " deg off";
         } else {
             EXPECT_EQ(r.health, Health::Lost) << name << " scan " << i << ": not placed yet not lost";
-            (r.reloc.result == "ambiguous" ? t.ambiguous : t.failed)++;
+            (r.reloc.outcome == RelocOutcome::Ambiguous ? t.ambiguous : t.failed)++;
         }
     }
     std::cout << name << ": " << t.accepted_right << " of " << t.total() << " placed within 0.3 m / 3 deg (worst "
@@ -131,7 +131,7 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
         const double dm = translationDistance(r.T_map_lidar, T_gt[i]);
         const double dd = rotationAngle(r.T_map_lidar, T_gt[i]) * 180 / M_PI;
         std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") " << r.reloc.mode
-                  << " " << r.reloc.trigger << " " << r.reloc.result << ", " << dm << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
+                  << " " << r.reloc.trigger << " " << relocOutcomeName(r.reloc.outcome) << ", " << dm << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
         if (r.health == Health::Ok) {
             EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
         }
@@ -140,7 +140,7 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
         }
         // Detected: the frame was lost (and then relocalized, or not).
         if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
-        if (i >= k && !recovered && r.reloc.result == "accepted" && dm < 0.3 && dd < 3.0) recovered = i;
+        if (i >= k && !recovered && r.reloc.outcome == RelocOutcome::Accepted && dm < 0.3 && dd < 3.0) recovered = i;
         if (recovered && i > *recovered) {
             EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
         }
@@ -184,12 +184,12 @@ TEST(GlobalLocalization, FeaturelessCorridorIsAmbiguousNotPlaced) {
         loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
         loc.relocalize();
         const FrameReport r = loc.process(scans[i]);
-        std::cout << "corridor scan at x = " << T_gt[i].translation().x() << ": " << r.reloc.result << " ("
+        std::cout << "corridor scan at x = " << T_gt[i].translation().x() << ": " << relocOutcomeName(r.reloc.outcome) << " ("
                   << r.reloc.detail << "), " << r.reloc.hypotheses << " hypotheses, " << r.reloc.verified
                   << " verified, " << r.ms.total << " ms\n";
-        EXPECT_NE(r.reloc.result, "accepted") << "scan " << i;
+        EXPECT_NE(r.reloc.outcome, RelocOutcome::Accepted) << "scan " << i;
         EXPECT_EQ(r.health, Health::Lost) << "scan " << i;
-        ambiguous += r.reloc.result == "ambiguous";
+        ambiguous += r.reloc.outcome == RelocOutcome::Ambiguous;
     }
     EXPECT_GE(ambiguous, static_cast<int>(scans.size()) - 1) << "reported ambiguous (not just failed)";
 }

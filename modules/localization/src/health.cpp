@@ -71,27 +71,43 @@ double HealthMonitor::reference() const {
     return v[v.size() / 2];
 }
 
-Health HealthMonitor::classify(const FrameReport& r, std::string* reason) const {
-    static const char* kAxis[6] = {"x", "y", "z", "roll", "pitch", "yaw"};
+HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
+    HealthChecks c;
+    // As health_reason says: a diverged frame is lost for that alone, a frame lost by its
+    // inliers for those alone; only a frame that stands has its other checks made.
+    c.diverged = r.diverged && r.diverged_reason != "jump_rejected";
+    if (c.diverged) return c;
+    c.inliers_lost = ref > 0 && r.inlier_ratio < p_.lost_inlier_drop * ref;
+    if (c.inliers_lost) return c;
+    c.jump_rejected = r.diverged;  // the IMU prediction was kept
+    c.inliers = ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref;
+    c.not_converged = notConverged(r);
+    for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p_.weak_gamma;
+    c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
+    return c;
+}
+
+Health HealthMonitor::classify(const FrameReport& r, std::string* reason, HealthChecks* checks) const {
+    const HealthChecks c = check(r, reference());
+    if (checks) *checks = c;
     std::string why;
     const auto add = [&why](const std::string& s) { why += (why.empty() ? "" : "+") + s; };
-    const double ref = reference();
     Health h = Health::Ok;
-    if (r.diverged && r.diverged_reason != "jump_rejected") {
+    if (c.diverged) {
         add(r.diverged_reason.empty() ? "diverged" : r.diverged_reason);
         h = Health::Lost;
-    } else if (ref > 0 && r.inlier_ratio < p_.lost_inlier_drop * ref) {
+    } else if (c.inliers_lost) {
         add("inliers");
         h = Health::Lost;
     } else {
-        if (r.diverged) add(r.diverged_reason);  // jump_rejected: the IMU prediction was kept
-        if (notConverged(r)) add("not_converged");
+        if (c.jump_rejected) add(r.diverged_reason);
+        if (c.not_converged) add("not_converged");
         std::string weak;
         for (int k = 0; k < 6; ++k)
-            if (r.gamma[k] < p_.weak_gamma) weak += std::string(weak.empty() ? "" : "_") + kAxis[k];
+            if (c.weak[k]) weak += std::string(weak.empty() ? "" : "_") + kAxisNames[k];
         if (!weak.empty()) add("weak_" + weak);
-        if (ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) add("inliers");
-        if (r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg)) add("prediction");
+        if (c.inliers) add("inliers");
+        if (c.prediction) add("prediction");
         if (!why.empty()) h = Health::Degraded;
     }
     if (reason) *reason = why;
@@ -99,14 +115,12 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason) const 
 }
 
 void HealthMonitor::assess(FrameReport& r) {
-    r.health = classify(r, &r.health_reason);
     r.inlier_reference = reference();
+    r.health = classify(r, &r.health_reason, &r.checks);
     // Tracked: the fit itself is sound (weak axes aside, which say nothing about this map's
     // inlier ratio when tracking is right).
-    const double ref = reference();
-    const bool tracked = !r.diverged && !notConverged(r) && !(ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref) &&
-                         !(r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg));
-    if (tracked) {
+    const HealthChecks& c = r.checks;
+    if (!r.diverged && !c.not_converged && !c.badFit() && !c.prediction) {
         tracked_.push_back(r.inlier_ratio);
         while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
     }

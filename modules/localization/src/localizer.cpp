@@ -1,5 +1,6 @@
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
+#include <superloc/core/timing.h>
 #include <superloc/features/deskew.h>
 #include <superloc/imu/rest_init.h>
 #include <superloc/localization/localizer.h>
@@ -22,10 +23,7 @@ void FrameReport::setRisk(const risk::RiskReport& r) {
 }
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 double threadCpuMs() {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -147,10 +145,10 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     last_motion_ = motion;
 }
 
-void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, int rounds_override) {
+void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, bool from_hypothesis) {
     const auto& lp = params_.loc;
     const fusion::FrameState prev_saved = prev_;
-    const int rounds = rounds_override > 0 ? rounds_override : wide ? lp.rounds_init : lp.rounds;
+    const int rounds = wide ? lp.rounds_init : lp.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
     // starts at the coarsest level, whose metre-sized voxels give a wide basin, a tracked frame
@@ -161,7 +159,11 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
     // association = nearest: the search radius starts at max_corr_dist_init on wide frames and
     // shrinks by 0.7 each time the pose settles, down to max_corr_dist; the kernel halves from
     // radius/2 to kernel_scale within each radius.
-    const bool voxel = assoc_.voxel;
+    // A hypothesis of the global search is solved in the voxel map whatever the tracking
+    // association (its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps), without
+    // the odom_alt prior or eigen_remap (both hold the pose to the previous frame's, which is
+    // exactly what is in question).
+    const bool voxel = assoc_.voxel || from_hypothesis;
     const int n_levels = voxel ? map_->voxels().levels() : 1;
     int level = voxel && wide ? n_levels - 1 : 0;
     double radius = !voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist;
@@ -173,6 +175,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         // Step 3: associate at the current estimate (the prediction on round 0).
         const double scale = voxel ? std::pow(2.0, level) : 1.0;
         AssociationParams ap = assoc_;
+        ap.voxel = voxel;
         ap.level = level;
         ap.max_dist = voxel ? lp.max_corr_dist * scale : radius;
         const double floor = params_.fusion.kernel_scale * scale;
@@ -191,7 +194,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             const auto risk = risk::computeAlignmentRisk(
                 riskInputs(T_before, T_imu_lidar_.translation()), params_.risk);
             rep.setRisk(risk);
-            prior = verifying_ ? std::nullopt : activePrior(risk);
+            prior = from_hypothesis ? std::nullopt : activePrior(risk);
             rep.ms.risk += msSince(t0);
         }
         if (corr_.size() < kMinCorrespondences && !pre) {
@@ -229,7 +232,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             rep.diverged_reason = "solver";
             break;
         }
-        if (method_ == Method::EigenRemap && !verifying_) remapUpdate(prev_saved, T_before, scan, rep);
+        if (method_ == Method::EigenRemap && !from_hypothesis) remapUpdate(prev_saved, T_before, scan, rep);
         const SE3d T_after = cur_.T_map_imu();
         rep.last_step_xyz = translationDistance(T_before, T_after);
         rep.last_step_deg = rotationAngle(T_before, T_after) / kDeg;
@@ -251,6 +254,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         // The rounds ran out before the finest level: associate there once more so that the
         // frame's quality is measured at full resolution.
         AssociationParams ap = assoc_;
+        ap.voxel = voxel;
         const auto t0 = Clock::now();
         associate(pts_body_, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
@@ -417,101 +421,28 @@ FrameReport Localizer::process(const Scan& scan) {
         first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
     restart_ = false;
     rep.coarse_start = velocity_unknown && method_ != Method::Ndt;
-    // Health (health.h): the solved pose against the prediction, then every check.
-    const auto assess = [this](FrameReport& r) {
-        r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
-        r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
-        health_.assess(r);
-    };
-    bool searched = false;
-    if (reloc_pending_) {
+    const bool requested = reloc_pending_;
+    if (requested) {
         // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
         // Until a pose is accepted, every scan searches again.
-        searched = true;
         rep.diverged = true;
         rep.diverged_reason = "no_pose";
-        const bool ok = runRelocalization(scan, pred, reloc_region_ ? &*reloc_region_ : nullptr, rep);
-        if (ok) reloc_pending_ = false, doubt_ = false;
-        assess(rep);
+        if (runRelocalization(scan, pred, reloc_region_ ? &*reloc_region_ : nullptr, rep) == RelocOutcome::Accepted)
+            reloc_pending_ = false, doubt_ = false;
     } else {
         if (method_ == Method::Ndt) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
         } else {
             solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);
         }
-
         // Step 6: report and state update.
         finish(scan, pred, velocity_unknown, rep);
-        assess(rep);
     }
-    // Step 7 (doc/health.md): lost for local_after_lost frames searches around the last pose not
-    // lost, for global_after_lost frames the whole map.
-    const auto& rp = params_.relocalization;
-    lost_run_ = rep.health == Health::Lost ? lost_run_ + 1 : 0;
-    // A frame that stands but whose registration is in doubt (degraded: it fits clearly worse
-    // than this map gives when tracking is right, or did not settle in its rounds) gets the
-    // local search too, unless the scan leaves a translation unconstrained (the search could
-    // not tell the places along that axis apart). The search's pose replaces the frame's only
-    // when verified with more inliers.
-    // After such a frame the search could not settle, the frames that follow are not `ok` before
-    // a search confirms them: tracking from a doubtful pose can settle in a wrong basin and fit
-    // as well as a right one (kitti00-mini split: 1.1 m along the road, converged).
-    const bool bad_fit = rep.health_reason.find("inliers") != std::string::npos;
-    const bool in_doubt = bad_fit || rep.health_reason.find("not_converged") != std::string::npos;
-    const bool unconfirmed = search_ && doubt_ && rep.health == Health::Ok;
-    if (unconfirmed) {
-        rep.health = Health::Degraded;
-        rep.health_reason = "unconfirmed";
-    }
-    const bool weak_translation = (rep.gamma.head<3>().array() < params_.health.weak_gamma).any();
-    // A frame that fits clearly worse is searched whatever its risk says (its gamma was measured
-    // at a pose that may be wrong); one only unsettled is not where the scan leaves a translation
-    // unconstrained (a corridor: the search could not tell the places along it apart).
-    const bool suspicious = rep.health == Health::Degraded && (bad_fit || ((in_doubt || unconfirmed) && !weak_translation));
-    if (search_ && !searched && (lost_run_ >= rp.local_after_lost || suspicious)) {
-        const bool global = lost_run_ >= rp.global_after_lost || !last_good_T_map_lidar_;
-        reloc::SearchRegion region;
-        if (!global) {
-            region.centre = last_good_T_map_lidar_->translation();
-            region.radius = rp.local_radius + rp.local_radius_rate * std::max(0.0, scan.t - last_good_t_);
-            const Mat3d& R = last_good_T_map_lidar_->linear();
-            region.yaw = std::atan2(R(1, 0), R(0, 0));
-            region.yaw_half_width = rp.local_yaw_deg * kDeg;
-        }
-        if (runRelocalization(scan, pred, global ? nullptr : &region, rep)) {
-            assess(rep);
-            lost_run_ = rep.health == Health::Lost ? lost_run_ : 0;
-            doubt_ = false;
-        } else if (rep.reloc.detail == "not_better") {
-            // Nothing around fits better: the frame's own pose is confirmed.
-            doubt_ = false;
-            if (unconfirmed) {
-                rep.health = Health::Ok;
-                rep.health_reason.clear();
-            }
-        } else if (in_doubt) {
-            doubt_ = true;
-        }
-    } else if (in_doubt || rep.health == Health::Lost) {
-        doubt_ = true;
-    }
-    if (rep.health == Health::Ok)
-        imu_chain_ = true;
-    else if (!pred.used_imu)
-        imu_chain_ = false;
-    if (rep.health != Health::Lost) {
-        last_good_T_map_lidar_ = rep.T_map_lidar;
-        last_good_t_ = scan.t;
-        good_state_ = cur_;
-    } else if (good_state_ && search_) {
-        // A lost frame's state is not carried: its pose, and the velocity an IMU factor made
-        // of it, would drive every later prediction (multifloor ndt ran away to kilometres).
-        // Tracking resumes from the last frame not lost, at rest, velocity unknown.
-        cur_ = *good_state_;
-        cur_.t = scan.t;
-        cur_.setVelocity(Vec3d::Zero());
-        restart_ = true;
-    }
+    assess(rep);
+    // Step 7 (localizer_relocalize.cpp): a lost or doubtful frame searches the map (unless this
+    // frame was the search's already), then the state carried to the next frame.
+    recoverIfLost(scan, pred, !requested, rep);
+    updateTrackingState(scan, pred, rep);
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;

@@ -2,10 +2,10 @@
 // the localizer's own fine registration verifies each, and the health checks and the alignment
 // risk decide whether one of them can be committed.
 #include <superloc/core/se3.h>
+#include <superloc/core/timing.h>
 #include <superloc/localization/localizer.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -13,19 +13,16 @@
 namespace superloc::localization {
 namespace {
 constexpr double kDeg = M_PI / 180.0;
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
+using Clock = SteadyClock;
 }  // namespace
 
-bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
+RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
                                   FrameReport& rep) {
     const auto& rp = params_.relocalization;
     RelocReport rr;
     rr.mode = region ? "local" : "global";
     rr.trigger = reloc_pending_ ? "request" : rep.health == Health::Lost ? "lost" : "doubt";
-    rr.result = "failed";
+    rr.outcome = RelocOutcome::Failed;
 
     // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
     // the scan's ground plane.
@@ -39,7 +36,7 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         rr.detail = "no_hypothesis" + (found.failure.empty() ? "" : ": " + found.failure);
         rep.reloc = rr;
         rep.ms.solve += rr.search_ms;
-        return false;
+        return rr.outcome;
     }
 
     // Verify: the fine registration from each hypothesis, as on a first frame (velocity unknown,
@@ -59,11 +56,8 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
     base.rounds = base.iterations = 0;
     std::vector<Outcome> verified;
     t0 = Clock::now();
-    verifying_ = true;
     // Verified coarse to fine in the voxel map whatever the tracking association (doc/map.md):
     // its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps, and it is fast.
-    const bool tracking_voxel = assoc_.voxel;
-    assoc_.voxel = true;
     const size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
     const double ref = health_.reference();
     for (size_t i = 0; i < n; ++i) {
@@ -73,15 +67,13 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         cur_.setBias(prev_.bias());
         cur_.setPose(T_start);
         FrameReport r = base;
-        solveIcp(nullptr, true, r);
-        if (!tracking_voxel) {
+        solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
+        if (!assoc_.voxel) {
             // Inliers measured as tracking measures them, so that the verified poses compare
             // with the frame's own solve (the two associations count inliers differently).
-            assoc_.voxel = false;
             const auto ta = Clock::now();
             associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
             r.ms.associate += msSince(ta);
-            assoc_.voxel = true;
         }
         Prediction p = pred;
         p.T_map_imu = T_start;
@@ -95,8 +87,6 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
             !health_.notConverged(r) && h != Health::Lost && (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
         if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
     }
-    verifying_ = false;
-    assoc_.voxel = tracking_voxel;
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
     const auto restore = [&](const Outcome& o) {
@@ -115,7 +105,7 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         restore(own);
         rr.detail = "verification";
         report(rep);
-        return false;
+        return rr.outcome;
     }
     std::sort(verified.begin(), verified.end(),
               [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
@@ -142,11 +132,11 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         // Not committed: the frame stays as it was (lost), reporting the best pose found and
         // its alternatives; the next scan searches again.
         restore(own);
-        rr.result = "ambiguous";
+        rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = ambiguous;
         rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
         report(rep);
-        return false;
+        return rr.outcome;
     }
     if (rep.health != Health::Lost && !reloc_pending_ && pred.used_imu && imu_chain_ &&
         (translationDistance(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_xyz ||
@@ -156,20 +146,20 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
         // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus), and
         // so may an IMU chain that started from such a frame (imu_chain_).
         restore(own);
-        rr.detail = "too_far";
+        rr.outcome = RelocOutcome::TooFar;
         report(rep);
-        return false;
+        return rr.outcome;
     }
     if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
         // The frame's own solve stands (a suspicious frame the search could not better).
         restore(own);
-        rr.detail = "not_better";
+        rr.outcome = RelocOutcome::NotBetter;
         report(rep);
-        return false;
+        return rr.outcome;
     }
     restore(best);
     rep = best.rep;
-    rr.result = "accepted";
+    rr.outcome = RelocOutcome::Accepted;
     report(rep);
     rep.recovered = true;
     // After a loss (or with no pose at all) the velocity is unknown: the next frame starts
@@ -180,7 +170,90 @@ bool Localizer::runRelocalization(const Scan& scan, const Prediction& pred, cons
                       "inlier ratio %.2f",
                       rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
                       rep.inlier_ratio);
-    return true;
+    return rr.outcome;
+}
+
+void Localizer::assess(FrameReport& rep) {
+    rep.pred_dxyz = translationDistance(rep.T_map_lidar, rep.T_map_lidar_pred);
+    rep.pred_ddeg = rotationAngle(rep.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+    health_.assess(rep);
+}
+
+void Localizer::recoverIfLost(const Scan& scan, const Prediction& pred, bool may_search, FrameReport& rep) {
+    // Lost for local_after_lost frames searches around the last pose not lost, for
+    // global_after_lost frames the whole map.
+    const auto& rp = params_.relocalization;
+    lost_run_ = rep.health == Health::Lost ? lost_run_ + 1 : 0;
+    // A frame that stands but whose registration is in doubt (degraded: it fits clearly worse
+    // than this map gives when tracking is right, or did not settle in its rounds) gets the
+    // local search too. The search's pose replaces the frame's only when verified with more
+    // inliers.
+    // After such a frame the search could not settle, the frames that follow are not `ok` before
+    // a search confirms them: tracking from a doubtful pose can settle in a wrong basin and fit
+    // as well as a right one (kitti00-mini split: 1.1 m along the road, converged).
+    const HealthChecks c = rep.checks;  // as solved (a search may replace rep)
+    const bool unconfirmed = search_ && doubt_ && rep.health == Health::Ok;
+    if (unconfirmed) {
+        rep.health = Health::Degraded;
+        rep.health_reason = "unconfirmed";
+        rep.checks.unconfirmed = true;
+    }
+    // A frame that fits clearly worse is searched whatever its risk says (its gamma was measured
+    // at a pose that may be wrong); one only unsettled is not where the scan leaves a translation
+    // unconstrained (a corridor: the search could not tell the places along it apart).
+    const bool suspicious =
+        rep.health == Health::Degraded && (c.badFit() || ((c.inDoubt() || unconfirmed) && !c.weakTranslation()));
+    if (!(search_ && may_search && (lost_run_ >= rp.local_after_lost || suspicious))) {
+        if (c.inDoubt() || rep.health == Health::Lost) doubt_ = true;
+        return;
+    }
+    const bool global = lost_run_ >= rp.global_after_lost || !last_good_;
+    reloc::SearchRegion region;
+    if (!global) {
+        region.centre = last_good_->T_map_lidar.translation();
+        region.radius = rp.local_radius + rp.local_radius_rate * std::max(0.0, scan.t - last_good_->state.t);
+        const Mat3d& R = last_good_->T_map_lidar.linear();
+        region.yaw = std::atan2(R(1, 0), R(0, 0));
+        region.yaw_half_width = rp.local_yaw_deg * kDeg;
+    }
+    switch (runRelocalization(scan, pred, global ? nullptr : &region, rep)) {
+        case RelocOutcome::Accepted:
+            assess(rep);
+            lost_run_ = rep.health == Health::Lost ? lost_run_ : 0;
+            doubt_ = false;
+            break;
+        case RelocOutcome::NotBetter:
+            // Nothing around fits better: the frame's own pose is confirmed.
+            doubt_ = false;
+            if (unconfirmed) {
+                rep.health = Health::Ok;
+                rep.health_reason.clear();
+                rep.checks.unconfirmed = false;
+            }
+            break;
+        default:
+            if (c.inDoubt()) doubt_ = true;
+            break;
+    }
+}
+
+void Localizer::updateTrackingState(const Scan& scan, const Prediction& pred, const FrameReport& rep) {
+    if (rep.health == Health::Ok)
+        imu_chain_ = true;
+    else if (!pred.used_imu)
+        imu_chain_ = false;
+    if (rep.health != Health::Lost) {
+        last_good_ = GoodFrame{cur_, rep.T_map_lidar};
+        last_good_->state.t = scan.t;
+    } else if (last_good_ && search_) {
+        // A lost frame's state is not carried: its pose, and the velocity an IMU factor made
+        // of it, would drive every later prediction (multifloor ndt ran away to kilometres).
+        // Tracking resumes from the last frame not lost, at rest, velocity unknown.
+        cur_ = last_good_->state;
+        cur_.t = scan.t;
+        cur_.setVelocity(Vec3d::Zero());
+        restart_ = true;
+    }
 }
 
 }  // namespace superloc::localization

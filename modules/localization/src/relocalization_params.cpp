@@ -4,6 +4,18 @@
 
 namespace superloc::localization {
 
+const char* relocOutcomeName(RelocOutcome o) {
+    switch (o) {
+        case RelocOutcome::None: return "";
+        case RelocOutcome::Accepted: return "accepted";
+        case RelocOutcome::NotBetter: return "not_better";
+        case RelocOutcome::TooFar: return "too_far";
+        case RelocOutcome::Ambiguous: return "ambiguous";
+        case RelocOutcome::Failed: return "failed";
+    }
+    return "?";
+}
+
 void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(enabled, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(local_after_lost, int, c, s);

@@ -71,7 +71,7 @@ std::string framesCsvLine(const FrameReport& r, const SE3d& T) {
     add("%.3f", r.pred_ddeg);
     std::string detail = r.reloc.detail;  // free text: no commas in a CSV cell
     std::replace(detail.begin(), detail.end(), ',', ';');
-    s += ',' + r.reloc.mode + ',' + r.reloc.trigger + ',' + r.reloc.result + ',' + detail;
+    s += ',' + r.reloc.mode + ',' + r.reloc.trigger + ',' + relocOutcomeName(r.reloc.outcome) + ',' + detail;
     add("%d", r.reloc.hypotheses);
     add("%d", r.reloc.verified);
     add("%.2f", r.reloc.search_ms + r.reloc.verify_ms);

@@ -73,6 +73,7 @@ struct FrameReport {
     // Health (health.h, doc/health.md): no ground truth involved.
     Health health = Health::Ok;
     std::string health_reason;    ///< checks that failed, '+'-joined ("not_converged+weak_x")
+    HealthChecks checks;          ///< the same as flags
     double inlier_reference = 0;  ///< the run's reference inlier ratio before this frame (0: none yet)
     double pred_dxyz = 0;         ///< [m] solved vs predicted LiDAR position
     double pred_ddeg = 0;         ///< [deg] solved vs predicted LiDAR rotation

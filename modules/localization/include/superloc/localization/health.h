@@ -16,6 +16,7 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <array>
 #include <deque>
 #include <string>
 
@@ -24,6 +25,24 @@ namespace superloc::localization {
 struct FrameReport;
 
 enum class Health { Ok, Degraded, Lost };
+
+/// The checks behind a frame's health, one flag each (health_reason spells them out).
+struct HealthChecks {
+    bool diverged = false;       ///< the registration failed (lost)
+    bool jump_rejected = false;  ///< the IMU prediction was kept instead of the registration
+    bool inliers_lost = false;   ///< inlier ratio below lost_inlier_drop x the reference (lost)
+    bool inliers = false;        ///< inlier ratio below degraded_inlier_drop x the reference
+    bool not_converged = false;  ///< still moving when the rounds ran out
+    std::array<bool, 6> weak{};  ///< gamma below weak_gamma, per axis (x y z roll pitch yaw)
+    bool prediction = false;     ///< IMU prediction and solved pose disagree
+    bool unconfirmed = false;    ///< after an unsettled doubt, not yet confirmed by a search
+
+    /// The fit is clearly worse than tracking gives on this map.
+    bool badFit() const { return inliers || inliers_lost; }
+    /// The registration itself is in question (not only an axis the scan leaves open).
+    bool inDoubt() const { return badFit() || not_converged; }
+    bool weakTranslation() const { return weak[0] || weak[1] || weak[2]; }
+};
 const char* healthName(Health h);  ///< "ok", "degraded", "lost"
 
 /// Section [health] of the INI.
@@ -56,12 +75,13 @@ class HealthMonitor {
     /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
     double reference() const;
     /// What assess() would say about a candidate (relocalization), without touching the reference.
-    Health classify(const FrameReport& rep, std::string* reason = nullptr) const;
+    Health classify(const FrameReport& rep, std::string* reason = nullptr, HealthChecks* checks = nullptr) const;
     const HealthParams& params() const { return p_; }
     /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
     bool notConverged(const FrameReport& r) const;
 
    private:
+    HealthChecks check(const FrameReport& r, double reference) const;
     HealthParams p_;
     std::deque<double> tracked_;  ///< inlier ratios of the last tracked frames
 };

@@ -97,8 +97,9 @@ class Localizer : public mrpt::system::COutputLogger {
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// Steps 3-5 from the current state's pose; `wide`: first-frame search radius and rounds.
-    /// `rounds` > 0 overrides the number of association rounds.
-    void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, int rounds = 0);
+    /// `from_hypothesis`: verifying a pose of the global search (voxel association whatever
+    /// the tracking one, no odom_alt prior, no eigen_remap).
+    void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, bool from_hypothesis = false);
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
@@ -122,8 +123,16 @@ class Localizer : public mrpt::system::COutputLogger {
     /// everywhere), verify the best hypotheses, commit the winner when it is unambiguous. On
     /// success rep and the state are the winner's (velocity unknown); else both stay as they
     /// were, with rep.reloc saying why.
-    bool runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
-                           FrameReport& rep);
+    RelocOutcome runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
+                                   FrameReport& rep);
+    /// The health checks on the solved frame (its pose against the prediction first).
+    void assess(FrameReport& rep);
+    /// Step 7 (doc/health.md): a frame lost for a while, or in doubt, searches the map (when
+    /// `may_search`), and the doubt carried to the next frames is updated.
+    void recoverIfLost(const Scan& scan, const Prediction& pred, bool may_search, FrameReport& rep);
+    /// What the next frame starts from: the last frame not lost, or (after a lost one) a
+    /// restart from it at rest.
+    void updateTrackingState(const Scan& scan, const Prediction& pred, const FrameReport& rep);
     std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
 
     LocalizerParams params_;
@@ -133,14 +142,16 @@ class Localizer : public mrpt::system::COutputLogger {
     bool reloc_pending_ = false;                 ///< relocalize() was called: the next scan searches
     std::optional<reloc::SearchRegion> reloc_region_;
     int lost_run_ = 0;                           ///< consecutive lost frames
-    std::optional<SE3d> last_good_T_map_lidar_;  ///< last frame not lost
-    double last_good_t_ = 0;
-    std::optional<fusion::FrameState> good_state_;  ///< state of the last frame not lost
+    /// The last frame not lost: where a local search looks, and where tracking restarts.
+    struct GoodFrame {
+        fusion::FrameState state;  ///< its state (time state.t)
+        SE3d T_map_lidar;
+    };
+    std::optional<GoodFrame> last_good_;
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;
     bool doubt_ = false;       ///< a frame in doubt was not settled by a search: confirm the next
-    bool verifying_ = false;   ///< solving from a hypothesis: no odom_alt prior, no remap
     std::shared_ptr<const map::PriorMap> map_;
     std::unique_ptr<NdtRegistration> ndt_;
     AssociationParams assoc_;

@@ -41,12 +41,24 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     void validate() const;
 };
 
+/// How a relocalization ended.
+enum class RelocOutcome {
+    None,       ///< none ran on this frame
+    Accepted,   ///< a verified, unambiguous pose replaced the frame's own
+    NotBetter,  ///< nothing verified fits better than the frame's own solve: it stands (confirmed)
+    TooFar,     ///< a frame in doubt (IMU-predicted) would have moved too far: not taken
+    Ambiguous,  ///< distinct verified poses fit about as well, or the winner has a weak axis
+    Failed      ///< no hypothesis, or none verified
+};
+/// "", "accepted", "not_better", "too_far", "ambiguous", "failed" (frames.csv reloc_result).
+const char* relocOutcomeName(RelocOutcome o);
+
 /// What a relocalization did on a frame (FrameReport::reloc).
 struct RelocReport {
     std::string mode;     ///< "" none, "local" (around the last pose), "global" (whole map)
     std::string trigger;  ///< "request" (relocalize()), "lost", "doubt" (degraded, in doubt)
-    std::string result;   ///< "accepted", "ambiguous", "failed"
-    std::string detail;   ///< why not accepted ("no_hypothesis", "ambiguous_x", "verification", ...)
+    RelocOutcome outcome = RelocOutcome::None;
+    std::string detail;   ///< why: "no_hypothesis: ...", "verification", "alternatives+weak_x", ...
     int hypotheses = 0;   ///< proposed by the search
     int verified = 0;     ///< passed the fine registration and health checks
     double search_ms = 0; ///< [ms] global search
