@@ -4,9 +4,9 @@
 // and recovered from. A scan may be reported ambiguous or failed; it must never be placed
 // confidently wrong: no accepted pose farther than 0.5 m / 5 deg from the ground truth.
 // Measured (default INI, deskew off): campus-ouster 53 of 53 within 0.3 m / 3 deg (worst
-// 5 cm); kitti00-mini 14 of 16, one accepted 0.40 m along the road (the registration's shallow
-// basin there, the basin issue), one reported ambiguous; up to ~3.7 s per KITTI scan on a
-// loaded machine.
+// 5 cm); kitti00-mini 15 of 16, one accepted 0.41 m along the road (the registration's shallow
+// basin there, the basin issue); up to ~0.7 s per KITTI scan. The simulated worlds: see the
+// office, cave and corridor tests below (doc/health.md).
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/se3.h>
@@ -20,6 +20,7 @@
 
 #include "default_params.h"
 #include "real_split.h"
+#include "sim_sequence.h"
 
 using namespace superloc;
 using namespace superloc::localization;
@@ -33,25 +34,23 @@ struct Tally {
     int accepted_near = 0;   ///< within 0.5 m / 5 deg but not 0.3 m / 3 deg
     int accepted_wrong = 0;  ///< farther: confidently wrong
     int ambiguous = 0, failed = 0;
+    int ambiguous_best_right = 0;  ///< ambiguous, yet the best-fitting pose was within 0.3 m / 3 deg
     double worst_m = 0, worst_deg = 0;  ///< over the accepted ones
     double max_ms = 0;
     int total() const { return accepted_right + accepted_near + accepted_wrong + ambiguous + failed; }
 };
 
-/// Every scan of `scans` of the split, each in a fresh Localizer with no pose.
-Tally eachScanOnItsOwn(const std::string& name, const std::string& data, const std::string& map_scans,
-                       const std::string& query_scans, double voxel) {
+/// Each of `scans` in a fresh Localizer with no pose (relocalize(), then one frame).
+Tally eachScanOnItsOwn(const std::string& name, const std::vector<Scan>& scans, const std::vector<SE3d>& T_gt,
+                       const std::shared_ptr<const map::PriorMap>& map, const LocalizerParams& params,
+                       const std::vector<ImuSample>& imu = {}) {
     Tally t;
-    const auto s = superloc::testing::prepareRealSplit(name, data, map_scans, voxel);
-    if (!s.ok) return t;
-    std::vector<Scan> scans;
-    std::vector<SE3d> T_gt;
-    superloc::testing::readScans(s.rawlog, query_scans, io::loadTum(s.gt_tum), scans, T_gt, 2.5);
-    const LocalizerParams params = defaultParams({"features.deskew=false"});
-    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(s.map, map::MapParams{}));
     for (size_t i = 0; i < scans.size(); ++i) {
         Localizer loc(params, map);
-        loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        loc.setMinLoggingLevel(std::getenv("SUPERLOC_TEST_DEBUG") ? mrpt::system::LVL_DEBUG : mrpt::system::LVL_ERROR);
+        if (std::getenv("SUPERLOC_TEST_DEBUG")) std::cout << name << " scan " << i << " GT " << T_gt[i].translation().transpose() << "\n";
+        for (const auto& m : imu)  // the second of IMU before the scan, when there is an IMU
+            if (m.t > scans[i].t - 1.0 && m.t <= scans[i].t) loc.addImu(m);
         loc.relocalize();
         const FrameReport r = loc.process(scans[i]);
         t.max_ms = std::max(t.max_ms, r.ms.total);
@@ -67,13 +66,64 @@ Tally eachScanOnItsOwn(const std::string& name, const std::string& data, const s
         } else {
             EXPECT_EQ(r.health, Health::Lost) << name << " scan " << i << ": not placed yet not lost";
             (r.reloc.outcome == RelocOutcome::Ambiguous ? t.ambiguous : t.failed)++;
+            if (r.reloc.outcome == RelocOutcome::Ambiguous && !r.reloc.alternatives.empty() &&
+                translationDistance(r.reloc.alternatives.front(), T_gt[i]) <= 0.3 &&
+                rotationAngle(r.reloc.alternatives.front(), T_gt[i]) <= 3.0 * M_PI / 180)
+                ++t.ambiguous_best_right;
+            std::cout << name << " scan " << i << ": " << relocOutcomeName(r.reloc.outcome) << " (" << r.reloc.detail
+                      << ")\n";
         }
     }
     std::cout << name << ": " << t.accepted_right << " of " << t.total() << " placed within 0.3 m / 3 deg (worst "
               << t.worst_m << " m, " << t.worst_deg << " deg), " << t.accepted_near << " within 0.5 m / 5 deg, "
               << t.accepted_wrong << " farther, "
-              << t.ambiguous << " ambiguous, " << t.failed << " failed; slowest " << t.max_ms << " ms\n";
+              << t.ambiguous << " ambiguous (" << t.ambiguous_best_right << " with the best fit right), " << t.failed
+              << " failed; slowest " << t.max_ms << " ms\n";
     return t;
+}
+
+/// Every scan `query_scans` of a real split, in the map of its `map_scans` (real_split.h).
+Tally eachScanOnItsOwn(const std::string& name, const std::string& data, const std::string& map_scans,
+                       const std::string& query_scans, double voxel) {
+    const auto s = superloc::testing::prepareRealSplit(name, data, map_scans, voxel);
+    if (!s.ok) return {};
+    std::vector<Scan> scans;
+    std::vector<SE3d> T_gt;
+    superloc::testing::readScans(s.rawlog, query_scans, io::loadTum(s.gt_tum), scans, T_gt, 2.5);
+    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(s.map, map::MapParams{}));
+    return eachScanOnItsOwn(name, scans, T_gt, map, defaultParams({"features.deskew=false"}));
+}
+
+/// A simulated world's whole route with one revolution in `every` written (sim_sequence.h):
+/// its scans, their GT poses and the world's prior map (sampled from the world's surfaces with
+/// mapping noise and warp, not from the scans).
+struct SimScans {
+    std::vector<Scan> scans;
+    std::vector<SE3d> T_gt;
+    std::vector<ImuSample> imu;
+    std::shared_ptr<const map::PriorMap> map;
+};
+SimScans sparseSimSequence(const std::string& name, const std::string& world, int every, const std::string& args = "") {
+    SimScans out;
+    const std::string dir = superloc::testing::simulatedSequence(
+        name, world, "--set sim.scan_every=" + std::to_string(every) + " " + args);
+    if (dir.empty()) return out;
+    const Trajectory gt = io::loadTum(dir + "/gt_tum.txt");
+    io::RawlogReader reader(dir + "/sequence.rawlog", io::RawlogParams{});
+    reader.logger().setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    io::RawlogItem it;
+    // gt_tum.txt holds one pose per written scan, at its time.
+    size_t k = 0;
+    while (reader.next(it) && k < gt.size())
+        if (it.kind == io::RawlogItem::Kind::Imu) {
+            out.imu.push_back(it.imu());
+        } else if (it.kind == io::RawlogItem::Kind::Lidar) {
+            EXPECT_NEAR(it.scan().t, gt[k].t, 1e-6);
+            out.scans.push_back(it.scan());
+            out.T_gt.push_back(gt[k++].pose);
+        }
+    out.map = std::make_shared<const map::PriorMap>(map::PriorMap::load(dir + "/prior_map.pcd", map::MapParams{}));
+    return out;
 }
 
 }  // namespace
@@ -94,6 +144,36 @@ TEST(GlobalLocalization, KittiEveryScanOnItsOwnBothWays) {
     EXPECT_EQ(a.total() + b.total(), 16);
     EXPECT_EQ(a.accepted_wrong + b.accepted_wrong, 0);
     EXPECT_GE(a.accepted_right + b.accepted_right, 14) << "14-15 of 16 measured";
+}
+
+// The simulated office (ten look-alike rooms off one hallway, 5 m apart) and cave (a winding
+// tunnel with relief), 20 scans spread over each 70 s route (one revolution in 35), each
+// localized on its own in the world's prior map, gravity from the second of IMU before the scan.
+// Issue 11 asked >= 95 % within 0.3 m / 3 deg here too; measured, both worlds defeat a single
+// scan, and the localizer says so instead of guessing:
+// - office: 0 placed, 20 ambiguous (look-alike rooms fit within 10 % of the right one's inlier
+//   ratio), of which 14 have the best fit at the right pose (the margin is 1-8 %);
+// - cave: 2 placed (worst 0.09 m), 16 ambiguous (gamma_x 0.00-0.23: a tunnel leaves x weakly
+//   constrained), of which 11 have the best fit right, 2 failed.
+// What must hold: no scan placed wrong, and the rest reported ambiguous rather than failed.
+TEST(GlobalLocalization, SimOfficeTwentyScansAmbiguousNeverWrong) {
+    const SimScans s = sparseSimSequence("gloc_sim_office", "office", 35);
+    if (!s.map) GTEST_SKIP() << "superloc-sim not built";
+    ASSERT_GE(s.scans.size(), 18u);
+    const Tally t = eachScanOnItsOwn("gloc_sim_office", s.scans, s.T_gt, s.map, defaultParams({}), s.imu);
+    EXPECT_EQ(t.accepted_wrong + t.accepted_near, 0);
+    EXPECT_GE(t.accepted_right + t.ambiguous, t.total() - 2) << "20 of 20 ambiguous measured";
+    EXPECT_GE(t.accepted_right + t.ambiguous_best_right, t.total() / 2) << "14 of 20 measured";
+}
+
+TEST(GlobalLocalization, SimCaveTwentyScansAmbiguousNeverWrong) {
+    const SimScans s = sparseSimSequence("gloc_sim_cave", "cave", 35);
+    if (!s.map) GTEST_SKIP() << "superloc-sim not built";
+    ASSERT_GE(s.scans.size(), 18u);
+    const Tally t = eachScanOnItsOwn("gloc_sim_cave", s.scans, s.T_gt, s.map, defaultParams({}), s.imu);
+    EXPECT_EQ(t.accepted_wrong + t.accepted_near, 0);
+    EXPECT_GE(t.accepted_right + t.ambiguous, t.total() - 4) << "18 of 20 placed or ambiguous measured";
+    EXPECT_GE(t.accepted_right + t.ambiguous_best_right, t.total() / 2) << "13 of 20 measured";
 }
 
 // A kidnap on real data: campus-ouster's odd scans 0-9, then (2 s later, as if the next scan)
@@ -153,31 +233,113 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
               << *recovered - k << " after it\n";
 }
 
+// A kidnap in the simulated office with its IMU and odom_alt (200 Hz, 20 Hz): the first 10 s of
+// the route (2 scans a second: one revolution in 5), then, as if the next scan, a part of the
+// route at least 5 m and 90 deg away, its IMU and odom_alt shifted in time with it (the IMU
+// keeps measuring, the platform is carried). The kidnap must be detected within 3 frames and no
+// frame after it reported ok while more than 0.5 m / 5 deg off. Issue 11 asked the pose found
+// again within 10 frames; measured, every search after the kidnap is ambiguous (the look-alike
+// rooms, as in SimOfficeTwentyScansAmbiguousNeverWrong) for the 20 frames that follow, so the
+// recovery is reported, not asserted: one scan at a time cannot tell these rooms apart, and
+// tracking several hypotheses over frames is not built.
+TEST(GlobalLocalization, SimOfficeKidnapDetectedNeverWrong) {
+    const std::string dir = superloc::testing::simulatedSequence("gloc_kidnap_office", "office",
+                                                                 "--set sim.scan_every=5");
+    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
+    std::vector<io::RawlogItem> items;
+    {
+        io::RawlogReader reader(dir + "/sequence.rawlog", io::RawlogParams{});
+        reader.logger().setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        io::RawlogItem it;
+        while (reader.next(it))
+            if (it.kind != io::RawlogItem::Kind::GroundTruth) items.push_back(it);
+    }
+    const Trajectory gt = io::loadTum(dir + "/gt_tum.txt");
+    ASSERT_GT(gt.size(), 100u);
+    // Part A: the scans of the first 10 s; part B: from the first scan after 25 s that is 5 m
+    // and 90 deg from A's last, for 10 s.
+    const double t0 = gt.front().t;
+    size_t a_end = 0;
+    while (a_end + 1 < gt.size() && gt[a_end + 1].t - t0 <= 10.0) ++a_end;
+    size_t b = a_end + 1;
+    while (b < gt.size() && (gt[b].t - t0 < 25.0 || translationDistance(gt[b].pose, gt[a_end].pose) < 5.0 ||
+                             rotationAngle(gt[b].pose, gt[a_end].pose) < M_PI / 2))
+        ++b;
+    ASSERT_LT(b, gt.size()) << "no part of the route 5 m and 90 deg from the first 10 s";
+    const double period = gt[1].t - gt[0].t;
+    const double shift = gt[a_end].t + period - gt[b].t;
+    const double b_end = gt[b].t + 10.0;
+    std::vector<io::RawlogItem> spliced;
+    for (const auto& it : items) {
+        const double t = it.time();
+        if (t <= gt[a_end].t + 1e-6) {
+            spliced.push_back(it);
+        } else if (t > gt[b].t - period + 1e-6 && t <= b_end + 1e-6) {
+            io::RawlogItem c = it;
+            if (c.kind == io::RawlogItem::Kind::Lidar) std::get<Scan>(c.data).t += shift;
+            if (c.kind == io::RawlogItem::Kind::Imu) std::get<ImuSample>(c.data).t += shift;
+            if (c.kind == io::RawlogItem::Kind::OdomAlt) std::get<PoseStamped>(c.data).t += shift;
+            spliced.push_back(c);
+        }
+    }
+    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(dir + "/prior_map.pcd", map::MapParams{}));
+    Localizer loc(defaultParams({}), map);
+    loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    loc.setInitialPose(gt.front().pose);
+    std::optional<size_t> detected, recovered;
+    const size_t k = a_end + 1;  // the first frame after the kidnap
+    std::cout << "office kidnap: " << translationDistance(gt[b].pose, gt[a_end].pose) << " m, "
+              << rotationAngle(gt[b].pose, gt[a_end].pose) * 180 / M_PI << " deg, after frame " << a_end << "\n";
+    size_t i = 0;
+    for (const auto& it : spliced) {
+        if (it.kind == io::RawlogItem::Kind::Imu) loc.addImu(it.imu());
+        if (it.kind == io::RawlogItem::Kind::OdomAlt) loc.addOdomAlt(it.pose());
+        if (it.kind != io::RawlogItem::Kind::Lidar) continue;
+        const FrameReport r = loc.process(it.scan());
+        const SE3d T_gt = i < k ? gt[i].pose : gt[b + (i - k)].pose;
+        const double dm = translationDistance(r.T_map_lidar, T_gt);
+        const double dd = rotationAngle(r.T_map_lidar, T_gt) * 180 / M_PI;
+        if (i + 2 >= k)
+            std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") "
+                      << r.reloc.mode << " " << r.reloc.trigger << " " << relocOutcomeName(r.reloc.outcome) << " " << r.reloc.detail << ", " << dm
+                      << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
+        if (r.health == Health::Ok) {
+            EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
+        }
+        if (i < k) {
+            EXPECT_LT(dm, 0.1) << "frame " << i << " before the kidnap";
+        }
+        if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
+        if (i >= k && !recovered && r.reloc.outcome == RelocOutcome::Accepted && dm < 0.3 && dd < 3.0) recovered = i;
+        if (recovered && i > *recovered) {
+            EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
+        }
+        ++i;
+    }
+    ASSERT_TRUE(detected.has_value()) << "the kidnap was never detected";
+    EXPECT_LE(*detected, k + 2);
+    std::cout << "office kidnap: detected at frame " << *detected - k << ", "
+              << (recovered ? "relocalized at frame " + std::to_string(*recovered - k) + " after it"
+                            : std::string("not relocalized (ambiguous)"))
+              << "\n";
+}
+
 // The paper's point, for relocalization: inside a 150 m corridor with nothing along its axis a
 // scan fits anywhere along x, so no pose may be committed: every scan from inside is reported
 // ambiguous (verified alternatives along the corridor, or x weakly constrained), never placed.
 TEST(GlobalLocalization, FeaturelessCorridorIsAmbiguousNotPlaced) {
-    namespace fs = std::filesystem;
-    const std::string dir = superloc::testing::freshDir("gloc_corridor");
-    const std::string sim = std::string(SUPERLOC_BINARY_DIR) + "/bin/superloc-sim";
-    if (!fs::exists(sim)) GTEST_SKIP() << "superloc-sim not built";
-    const std::string cmd = sim + " " + superloc::testing::sourcePath("ini/sim/corridor.ini") + " --out " + dir +
-                            " --set corridor.length=150 --set corridor.recesses=0 --set sim.duration=12"
-                            " --set lidar.preset=../sensors/vlp16.ini > " + dir + "/sim.log 2>&1";
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-    const Trajectory gt = io::loadTum(dir + "/gt_tum.txt");
-    io::RawlogReader reader(dir + "/sequence.rawlog", io::RawlogParams{});
-    io::RawlogItem it;
+    SimScans all = sparseSimSequence("gloc_corridor", "corridor", 15,
+                                     "--set corridor.length=150 --set corridor.recesses=0 --set sim.duration=12"
+                                     " --set lidar.preset=../sensors/vlp16.ini");
+    if (!all.map) GTEST_SKIP() << "superloc-sim not built";
+    ASSERT_FALSE(all.scans.empty());
+    // From 3 s on: inside the corridor.
     std::vector<Scan> scans;
     std::vector<SE3d> T_gt;
-    int n = 0;
-    while (reader.next(it))
-        if (it.kind == io::RawlogItem::Kind::Lidar && it.scan().t - gt.front().t > 3.0 && n++ % 15 == 0) {
-            const auto g = interpolateAt(gt, it.scan().t, 0.5, 1e-3);
-            if (g) scans.push_back(it.scan()), T_gt.push_back(*g);
-        }
+    for (size_t i = 0; i < all.scans.size(); ++i)
+        if (all.scans[i].t - all.scans.front().t > 2.9) scans.push_back(all.scans[i]), T_gt.push_back(all.T_gt[i]);
     ASSERT_GE(scans.size(), 5u);
-    auto map = std::make_shared<const map::PriorMap>(map::PriorMap::load(dir + "/prior_map.pcd", map::MapParams{}));
+    const auto& map = all.map;
     int ambiguous = 0;
     for (size_t i = 0; i < scans.size(); ++i) {
         Localizer loc(defaultParams({}), map);

@@ -165,7 +165,11 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
     // exactly what is in question).
     const bool voxel = assoc_.voxel || from_hypothesis;
     const int n_levels = voxel ? map_->voxels().levels() : 1;
-    int level = voxel && wide ? n_levels - 1 : 0;
+    // A hypothesis starts one level below the coarsest at most (1 m by default): the search's
+    // refinement has brought it within a few decimetres, and the 2 m level's plane biases in
+    // small rooms pushed right hypotheses away (simulated office: the right pose then lost to a
+    // look-alike room).
+    int level = voxel && wide ? (from_hypothesis ? std::min(1, n_levels - 1) : n_levels - 1) : 0;
     double radius = !voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist;
     int in_stage = 0;
     last_stats_ = {};

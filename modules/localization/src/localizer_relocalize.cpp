@@ -1,6 +1,7 @@
 // Relocalization (doc/health.md, step 7): the global search proposes poses for the current scan,
 // the localizer's own fine registration verifies each, and the health checks and the alignment
 // risk decide whether one of them can be committed.
+#include <mrpt/core/format.h>
 #include <superloc/core/se3.h>
 #include <superloc/core/timing.h>
 #include <superloc/localization/localizer.h>
@@ -16,6 +17,22 @@ constexpr double kDeg = M_PI / 180.0;
 using Clock = SteadyClock;
 }  // namespace
 
+std::optional<Mat3d> Localizer::gravityFromImu(double t) const {
+    // The mean specific force over the last half second is -gravity in the IMU frame, up to the
+    // platform's own mean acceleration (a walker: a few tenths of m/s^2, ~1-2 deg).
+    if (!params_.loc.use_imu) return std::nullopt;
+    Vec3d f = Vec3d::Zero();
+    int n = 0;
+    for (auto it = imu_.rbegin(); it != imu_.rend() && it->t >= t - 0.5; ++it)
+        if (it->t <= t + 0.05) f += it->acc, ++n;
+    if (n < 10 || !(f.norm() > 0)) return std::nullopt;
+    f /= n;
+    const double g = f.norm();
+    if (std::abs(g - params_.imu.gravity) > 0.2 * params_.imu.gravity) return std::nullopt;  // not gravity-dominated
+    // R_level_imu: the rotation (no yaw) taking the measured up direction onto the map's z.
+    return Mat3d(Eigen::Quaterniond::FromTwoVectors(f / g, Vec3d::UnitZ()).toRotationMatrix());
+}
+
 RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
                                   FrameReport& rep) {
     const auto& rp = params_.relocalization;
@@ -27,7 +44,10 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
     // the scan's ground plane.
     std::optional<Mat3d> R_level;
-    if (pred.used_imu) R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
+    if (pred.used_imu)
+        R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
+    else if (const auto R_level_imu = gravityFromImu(scan.t))
+        R_level = Mat3d(*R_level_imu * scan.T_imu_lidar.linear());
     auto t0 = Clock::now();
     const reloc::GlobalSearchResult found = search_->search(scan.points, R_level, region);
     rr.search_ms = msSince(t0);
@@ -55,10 +75,17 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     base.converged = false;
     base.rounds = base.iterations = 0;
     std::vector<Outcome> verified;
+    // Every attempt that is not lost, settled or not: an alternative that fits about as well
+    // but did not settle in its rounds is no evidence against it (look-alike rooms).
+    std::vector<FrameReport> standing;
     t0 = Clock::now();
     // Verified coarse to fine in the voxel map whatever the tracking association (doc/map.md):
     // its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps, and it is fast.
-    const size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
+    // The best verify_hypotheses, and every other one the search could not tell from the best
+    // (score within ambiguity_ratio of it): in look-alike places (the simulated office's rooms)
+    // the right one is often not among the first three of several equal scores.
+    size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
+    while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
     const double ref = health_.reference();
     for (size_t i = 0; i < n; ++i) {
         const SE3d T_start = found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse();
@@ -86,6 +113,12 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         const bool fits =
             !health_.notConverged(r) && h != Health::Lost && (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
         if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
+        if (h != Health::Lost) standing.push_back(r);
+        const Vec3d& x = r.T_map_lidar.translation();
+        MRPT_LOG_DEBUG_FMT("hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
+                           found.hypotheses[i].score, x.x(), x.y(), x.z(),
+                           translationDistance(r.T_map_lidar, found.hypotheses[i].T_map_lidar), r.inlier_ratio,
+                           healthName(h), fits ? " verified" : "", why.c_str());
     }
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
@@ -110,12 +143,12 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     std::sort(verified.begin(), verified.end(),
               [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
     const Outcome& best = verified.front();
-    // Ambiguous: another verified pose, distinct from the winner, explains the scan about as
-    // well; or the winner has an axis the scan does not constrain (gamma below the health
-    // check's weak_gamma on x, y or z: a corridor's scan fits anywhere along it).
+    // Ambiguous: another pose that stands (verified, or only unsettled), distinct from the
+    // winner, explains the scan about as well; or the winner has an axis the scan does not
+    // constrain (gamma below the health check's weak_gamma on x, y or z: a corridor's scan fits
+    // anywhere along it).
     std::string ambiguous;
-    for (size_t i = 1; i < verified.size(); ++i) {
-        const FrameReport& o = verified[i].rep;
+    for (const FrameReport& o : standing) {
         const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
                               rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
         if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
@@ -123,11 +156,9 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
             ambiguous = "alternatives";
         }
     }
-    static const char* kAxis[3] = {"x", "y", "z"};
-    std::string weak;
     for (int k = 0; k < 3; ++k)
-        if (best.rep.gamma[k] < params_.health.weak_gamma) weak += kAxis[k];
-    if (!weak.empty()) ambiguous += (ambiguous.empty() ? "" : "+") + ("weak_" + weak);
+        if (best.rep.gamma[k] < params_.health.weak_gamma)
+            ambiguous += (ambiguous.empty() ? "" : "+") + mrpt::format("weak_%s:%.2f", kAxisNames[k], best.rep.gamma[k]);
     if (!ambiguous.empty()) {
         // Not committed: the frame stays as it was (lost), reporting the best pose found and
         // its alternatives; the next scan searches again.
@@ -158,14 +189,27 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         return rr.outcome;
     }
     restore(best);
+    if (!own.rep.diverged && own.rep.health != Health::Lost) {
+        // A frame in doubt was tracked: its velocity (IMU-integrated, or constant velocity) is
+        // the platform's, in a frame rotated by the correction. The verification solved from
+        // rest, so carry it over (a dropout over an IMU gap: 0.63 m off on the next frame
+        // without).
+        const Mat3d R_corr = best.rep.T_map_lidar.linear() * own.rep.T_map_lidar.linear().transpose();
+        cur_.setVelocity(R_corr * own.state.velocity());
+    }
     rep = best.rep;
     rr.outcome = RelocOutcome::Accepted;
     report(rep);
     rep.recovered = true;
     // After a loss (or with no pose at all) the velocity is unknown: the next frame starts
-    // coarse. A frame that was only in doubt keeps the constant-velocity model of the frames
-    // before it.
-    restart_ = own.rep.diverged || own.rep.health == Health::Lost;
+    // coarse. So it is after a correction larger than [health] max_pred_xyz / max_pred_deg:
+    // the velocity was estimated along a track that far off (a dropout over an IMU gap: the
+    // next frame was lost again, 0.97 m off). A frame corrected less keeps the velocity of the
+    // frames before it.
+    const auto& hp = params_.health;
+    restart_ = own.rep.diverged || own.rep.health == Health::Lost ||
+               translationDistance(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_xyz ||
+               rotationAngle(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_deg * kDeg;
     MRPT_LOG_INFO_FMT("frame %zu (t=%.3f): relocalized (%s search %.0f ms, %d of %d hypotheses verified in %.0f ms), "
                       "inlier ratio %.2f",
                       rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,

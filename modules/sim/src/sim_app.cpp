@@ -172,6 +172,8 @@ SimSummary SimApp::run() {
             rawlog.writePose(odom.step(t_odom, traj.pose(t_odom)),
                              c.odom_alt.label);  // body (IMU) frame
             ++i_odom;
+        } else if (i_scan % static_cast<size_t>(c.sim.scan_every) != 0) {
+            ++i_scan;  // a revolution not written (scan_every)
         } else {
             const Scan scan =
                 simulateSweep(caster, world.mesh, traj, c.lidar, t_scan, lidar_rng, &normals);
@@ -192,7 +194,7 @@ SimSummary SimApp::run() {
         }
     }
     rawlog.close();
-    sum.scans = n_scan;
+    sum.scans = (n_scan + static_cast<size_t>(c.sim.scan_every) - 1) / static_cast<size_t>(c.sim.scan_every);
     sum.imu = n_imu;
     sum.odom_alt = n_odom;
     io::saveTum(out("gt_tum.txt"), gt);

@@ -16,6 +16,7 @@ void SimParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     MRPT_LOAD_CONFIG_VAR(prior_map_noise, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_map_warp, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prior_map_max_distance, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(scan_every, int, c, s);
 }
 
 void SimParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -34,6 +35,7 @@ void SimParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_noise, "[m] 1-sigma white mapping noise");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_warp, "[m] smooth mapping warp amplitude (~10 m scale)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_map_max_distance, "[m] prior map extent around the path");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(scan_every, "write one LiDAR revolution in N (IMU, odom_alt: all)");
 }
 
 void SimParams::validate() const {
@@ -47,6 +49,7 @@ void SimParams::validate() const {
     need(prior_map_voxel >= 0.01 && prior_map_voxel <= 5, "prior_map_voxel must be in [0.01, 5] m");
     need(prior_map_noise >= 0 && prior_map_warp >= 0, "prior_map_noise/warp must be >= 0");
     need(prior_map_max_distance > 0, "prior_map_max_distance must be > 0");
+    need(scan_every >= 1 && scan_every <= 10000, "scan_every must be in [1, 10000]");
 }
 
 }  // namespace superloc::sim

@@ -125,6 +125,9 @@ class Localizer : public mrpt::system::COutputLogger {
     /// were, with rep.reloc saying why.
     RelocOutcome runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
                                    FrameReport& rep);
+    /// Roll and pitch of the IMU (map z up, no yaw) from its mean specific force over the half
+    /// second before t, for a search without an IMU prediction; empty without IMU samples.
+    std::optional<Mat3d> gravityFromImu(double t) const;
     /// The health checks on the solved frame (its pose against the prediction first).
     void assess(FrameReport& rep);
     /// Step 7 (doc/health.md): a frame lost for a while, or in doubt, searches the map (when

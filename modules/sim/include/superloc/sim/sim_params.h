@@ -20,6 +20,7 @@ struct SimParams : public mrpt::config::CLoadableOptions {
     double prior_map_noise = 0.01;  ///< [m] 1-sigma white mapping noise per point
     double prior_map_warp = 0.02;   ///< [m] amplitude of the smooth mapping warp (~10 m scale)
     double prior_map_max_distance = 40.0;  ///< [m] prior map extent around the trajectory
+    int scan_every = 1;  ///< write one LiDAR revolution in N (a sparse sequence); IMU, odom_alt unaffected
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
