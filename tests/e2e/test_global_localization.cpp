@@ -126,6 +126,35 @@ SimScans sparseSimSequence(const std::string& name, const std::string& world, in
     return out;
 }
 
+/// The checks of a kidnap run, frame by frame: frames before the kidnap (index < k) on track,
+/// no frame `ok` while more than 0.5 m / 5 deg off, and when the kidnap was detected (a lost
+/// frame) and recovered (an accepted relocalization within 0.3 m / 3 deg, every frame after
+/// it within 0.3 m).
+struct KidnapWatch {
+    explicit KidnapWatch(size_t first_after) : k(first_after) {}
+    size_t k;  ///< the first frame after the kidnap
+    std::optional<size_t> detected, recovered;
+    void observe(size_t i, const FrameReport& r, const SE3d& T_gt, bool print = true) {
+        const double dm = translationDistance(r.T_map_lidar, T_gt);
+        const double dd = rotationAngle(r.T_map_lidar, T_gt) * 180 / M_PI;
+        if (print)
+            std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") "
+                      << r.reloc.mode << " " << r.reloc.trigger << " " << relocOutcomeName(r.reloc.outcome) << " "
+                      << r.reloc.detail << ", " << dm << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
+        if (r.health == Health::Ok) {
+            EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
+        }
+        if (i < k) {
+            EXPECT_LT(dm, 0.1) << "frame " << i << " before the kidnap";
+        }
+        if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
+        if (i >= k && !recovered && r.reloc.outcome == RelocOutcome::Accepted && dm < 0.3 && dd < 3.0) recovered = i;
+        if (recovered && i > *recovered) {
+            EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
+        }
+    }
+};
+
 }  // namespace
 
 TEST(GlobalLocalization, CampusEveryScanOnItsOwnBothWays) {
@@ -207,26 +236,10 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
     Localizer loc(defaultParams({"features.deskew=false"}), map);
     loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
     loc.setInitialPose(T_gt[0]);
-    std::optional<size_t> detected, recovered;
-    for (size_t i = 0; i < scans.size(); ++i) {
-        const FrameReport r = loc.process(scans[i]);
-        const double dm = translationDistance(r.T_map_lidar, T_gt[i]);
-        const double dd = rotationAngle(r.T_map_lidar, T_gt[i]) * 180 / M_PI;
-        std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") " << r.reloc.mode
-                  << " " << r.reloc.trigger << " " << relocOutcomeName(r.reloc.outcome) << ", " << dm << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
-        if (r.health == Health::Ok) {
-            EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
-        }
-        if (i < k) {
-            EXPECT_LT(dm, 0.1) << "frame " << i << " before the kidnap";
-        }
-        // Detected: the frame was lost (and then relocalized, or not).
-        if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
-        if (i >= k && !recovered && r.reloc.outcome == RelocOutcome::Accepted && dm < 0.3 && dd < 3.0) recovered = i;
-        if (recovered && i > *recovered) {
-            EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
-        }
-    }
+    KidnapWatch w(k);
+    for (size_t i = 0; i < scans.size(); ++i) w.observe(i, loc.process(scans[i]), T_gt[i]);
+    const auto& detected = w.detected;
+    const auto& recovered = w.recovered;
     ASSERT_TRUE(detected.has_value()) << "the kidnap was never detected";
     EXPECT_LE(*detected, k + 2);
     ASSERT_TRUE(recovered.has_value()) << "never relocalized";
@@ -288,36 +301,20 @@ TEST(GlobalLocalization, SimOfficeKidnapDetectedNeverWrong) {
     Localizer loc(defaultParams({}), map);
     loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
     loc.setInitialPose(gt.front().pose);
-    std::optional<size_t> detected, recovered;
     const size_t k = a_end + 1;  // the first frame after the kidnap
     std::cout << "office kidnap: " << translationDistance(gt[b].pose, gt[a_end].pose) << " m, "
               << rotationAngle(gt[b].pose, gt[a_end].pose) * 180 / M_PI << " deg, after frame " << a_end << "\n";
+    KidnapWatch w(k);
     size_t i = 0;
     for (const auto& it : spliced) {
         if (it.kind == io::RawlogItem::Kind::Imu) loc.addImu(it.imu());
         if (it.kind == io::RawlogItem::Kind::OdomAlt) loc.addOdomAlt(it.pose());
         if (it.kind != io::RawlogItem::Kind::Lidar) continue;
-        const FrameReport r = loc.process(it.scan());
-        const SE3d T_gt = i < k ? gt[i].pose : gt[b + (i - k)].pose;
-        const double dm = translationDistance(r.T_map_lidar, T_gt);
-        const double dd = rotationAngle(r.T_map_lidar, T_gt) * 180 / M_PI;
-        if (i + 2 >= k)
-            std::cout << "frame " << i << ": " << healthName(r.health) << " (" << r.health_reason << ") "
-                      << r.reloc.mode << " " << r.reloc.trigger << " " << relocOutcomeName(r.reloc.outcome) << " " << r.reloc.detail << ", " << dm
-                      << " m / " << dd << " deg off, " << r.ms.total << " ms\n";
-        if (r.health == Health::Ok) {
-            EXPECT_TRUE(dm <= 0.5 && dd <= 5.0) << "frame " << i << " confidently wrong";
-        }
-        if (i < k) {
-            EXPECT_LT(dm, 0.1) << "frame " << i << " before the kidnap";
-        }
-        if (i >= k && !detected && (r.health == Health::Lost || r.reloc.trigger == "lost")) detected = i;
-        if (i >= k && !recovered && r.reloc.outcome == RelocOutcome::Accepted && dm < 0.3 && dd < 3.0) recovered = i;
-        if (recovered && i > *recovered) {
-            EXPECT_LT(dm, 0.3) << "frame " << i << " after the relocalization";
-        }
+        w.observe(i, loc.process(it.scan()), i < k ? gt[i].pose : gt[b + (i - k)].pose, i + 2 >= k);
         ++i;
     }
+    const auto& detected = w.detected;
+    const auto& recovered = w.recovered;
     ASSERT_TRUE(detected.has_value()) << "the kidnap was never detected";
     EXPECT_LE(*detected, k + 2);
     std::cout << "office kidnap: detected at frame " << *detected - k << ", "
