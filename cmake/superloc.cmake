@@ -1,7 +1,15 @@
 # Build helpers shared by every SuperLoc target.
 
 # C++17, warnings, optional -Werror and sanitizers. No -march flag tuned to this CPU: MRPT, PCL and Ceres
-# are built without it, and a differing Eigen alignment crashes at run time.
+# are built without it, and a differing Eigen alignment crashes at run time. A flag passed in by
+# the user (CMAKE_CXX_FLAGS*) is refused here, at configure time, rather than crashing later.
+foreach(_flags_var CMAKE_CXX_FLAGS CMAKE_CXX_FLAGS_RELEASE CMAKE_CXX_FLAGS_RELWITHDEBINFO CMAKE_CXX_FLAGS_DEBUG
+                   CMAKE_C_FLAGS)
+  if("${${_flags_var}}" MATCHES "-march=native|-mtune=native|-mavx")
+    message(FATAL_ERROR "${_flags_var} holds a CPU-specific flag (${${_flags_var}}): MRPT, PCL and Ceres from "
+                        "Debian are built without it, and Eigen objects of differing alignment crash at run time")
+  endif()
+endforeach()
 function(superloc_target_options target)
   target_compile_features(${target} PUBLIC cxx_std_17)
   target_compile_options(${target} PRIVATE -Wall -Wextra)
