@@ -11,10 +11,10 @@ using namespace superloc;
 using namespace superloc::fusion;
 
 namespace {
-std::vector<ScanCorrespondence> room(int n) {
+std::vector<Correspondence> room(int n) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<ScanCorrespondence> out(static_cast<size_t>(n));
+    std::vector<Correspondence> out(static_cast<size_t>(n));
     for (int i = 0; i < n; ++i) {
         auto& c = out[static_cast<size_t>(i)];
         const int axis = i % 3;

@@ -13,7 +13,7 @@
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 #include <superloc/localization/localizer.h>
-#include <superloc/localization/run_outputs.h>
+#include <superloc/eval/timing.h>
 
 #include <cmath>
 #include <cstdio>
@@ -116,16 +116,16 @@ void BM_Frame(benchmark::State& state, const LocalizerParams& params) {
         stage[0].push_back(r.ms.preprocess), stage[1].push_back(r.ms.associate);
         stage[2].push_back(r.ms.risk), stage[3].push_back(r.ms.solve), stage[4].push_back(r.ms.predict);
     }
-    state.counters["median_ms"] = percentile(total, 0.5);
-    state.counters["p95_ms"] = percentile(total, 0.95);
-    state.counters["median_cpu_ms"] = percentile(cpu, 0.5);
-    state.counters["p95_cpu_ms"] = percentile(cpu, 0.95);
-    state.counters["preprocess_ms"] = percentile(stage[0], 0.5);
-    state.counters["associate_ms"] = percentile(stage[1], 0.5);
-    state.counters["risk_ms"] = percentile(stage[2], 0.5);
-    state.counters["solve_ms"] = percentile(stage[3], 0.5);
-    state.counters["predict_ms"] = percentile(stage[4], 0.5);
-    state.counters["fps"] = 1000.0 / std::max(1e-9, percentile(total, 0.5));
+    state.counters["median_ms"] = eval::median(total);
+    state.counters["p95_ms"] = eval::percentile(total, 0.95);
+    state.counters["median_cpu_ms"] = eval::median(cpu);
+    state.counters["p95_cpu_ms"] = eval::percentile(cpu, 0.95);
+    state.counters["preprocess_ms"] = eval::median(stage[0]);
+    state.counters["associate_ms"] = eval::median(stage[1]);
+    state.counters["risk_ms"] = eval::median(stage[2]);
+    state.counters["solve_ms"] = eval::median(stage[3]);
+    state.counters["predict_ms"] = eval::median(stage[4]);
+    state.counters["fps"] = 1000.0 / std::max(1e-9, eval::median(total));
     state.counters["ate_m"] = total.empty() ? 0 : std::sqrt(se / static_cast<double>(total.size()));
 }
 
@@ -172,7 +172,7 @@ void BM_RecoveryFrame(benchmark::State& state) {
     state.counters["recovered"] = n > 0 ? recovered / n : 0;
     state.counters["worst_err_m"] = err_m;
     state.counters["worst_err_deg"] = err_deg;
-    state.counters["median_ms"] = percentile(total, 0.5);
+    state.counters["median_ms"] = eval::median(total);
 }
 
 /// The association step alone: 2000 features of scan 5 at its GT pose.
@@ -188,7 +188,7 @@ void BM_Association(benchmark::State& state) {
         if (pts.size() < 2000 && scan.points[i].norm() > 2 && scan.points[i].norm() < 60)
             pts.push_back(scan.points[i].cast<double>());
     AssociationParams ap;
-    std::vector<fusion::ScanCorrespondence> corr;
+    std::vector<Correspondence> corr;
     AssociationStats st;
     for (auto _ : state) {
         associate(pts, d->gt[5].pose, *d->map, ap, corr, st);

@@ -93,7 +93,7 @@ void BM_VoxelMapScale(benchmark::State& state) {
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         localization::AssociationParams ap;
         ap.voxel = true;
-        std::vector<fusion::ScanCorrespondence> corr;
+        std::vector<Correspondence> corr;
         localization::AssociationStats st;
         std::vector<double> ms;
         for (int k = 0; k < 200; ++k) {

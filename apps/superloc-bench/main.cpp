@@ -1,15 +1,15 @@
 // superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (DESIGN §8).
 #include <superloc/core/errors.h>
-#include <superloc/eval/bench_app.h>
-#include <superloc/eval/eval_app.h>
-#include <superloc/eval/process.h>
+#include <superloc/app/bench_app.h>
+#include <superloc/app/eval_app.h>
+#include <superloc/app/process.h>
 
 #include <iostream>
 
 int main(int argc, char** argv) {
     try {
-        superloc::eval::killChildOnTermination();
-        superloc::eval::BenchApp app;
+        superloc::app::killChildOnTermination();
+        superloc::app::BenchApp app;
         app.data_dir = SUPERLOC_DEFAULT_DATA;
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));
         return app.run(std::cout);

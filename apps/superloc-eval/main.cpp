@@ -1,12 +1,12 @@
 // superloc-eval: ATE, RPE, robustness (Rp, Rr), map outlier %, timing of one run (DESIGN §8-9).
 #include <superloc/core/errors.h>
-#include <superloc/eval/eval_app.h>
+#include <superloc/app/eval_app.h>
 
 #include <iostream>
 
 int main(int argc, char** argv) {
     try {
-        superloc::eval::EvalApp app;
+        superloc::app::EvalApp app;
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));
         return app.run(std::cout);
     } catch (const std::exception& e) {

@@ -1,14 +1,14 @@
 // superloc-localize: map-based LiDAR-inertial localization of a rawlog (DESIGN §9).
 #include <superloc/core/errors.h>
 #include <mrpt/system/os.h>
-#include <superloc/localization/localize_app.h>
+#include <superloc/app/localize_app.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <iostream>
 
 int main(int argc, char** argv) {
-    using superloc::localization::LocalizeApp;
+    using superloc::app::LocalizeApp;
     try {
         LocalizeApp app;
         switch (app.initialize(argc, argv)) {

@@ -1,7 +1,8 @@
-// superloc-map: prior map from a rawlog's scans and their poses. See superloc::map::MapApp.
+// superloc-map: prior map from a rawlog's scans and their poses. See superloc::app::MapApp.
 #include <mrpt/system/progress.h>
 #include <superloc/core/errors.h>
-#include <superloc/map/map_app.h>
+#include <superloc/app/command_line.h>
+#include <superloc/app/map_app.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -9,12 +10,12 @@
 
 int main(int argc, char** argv) {
     try {
-        const auto args = superloc::map::parseMapAppArgs(argc, argv);
+        const auto args = superloc::app::parseMapAppArgs(superloc::app::argList(argc, argv));
         if (args.help) {
-            std::cout << superloc::map::mapAppUsage();
+            std::cout << superloc::app::mapAppUsage();
             return 0;
         }
-        superloc::map::MapApp app(args);
+        superloc::app::MapApp app(args);
         superloc::io::ProgressFn bar;
         if (isatty(fileno(stderr)))
             bar = [](size_t done, size_t total) {

@@ -1,16 +1,16 @@
 // superloc-sim: synthetic LiDAR + IMU + odom_alt sequences in degenerate worlds (DESIGN §7, §9).
 #include <superloc/core/errors.h>
 #include <mrpt/system/progress.h>
-#include <superloc/sim/sim_app.h>
+#include <superloc/app/sim_app.h>
 #include <unistd.h>
 
 #include <iostream>
 
 int main(int argc, char** argv) {
     try {
-        superloc::sim::SimApp app;
+        superloc::app::SimApp app;
         if (!app.initialize(argc, argv)) {
-            std::cout << superloc::sim::SimApp::usage();
+            std::cout << superloc::app::SimApp::usage();
             return 0;
         }
         if (app.dumpConfig()) {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/tum.h>
-#include <superloc/localization/localize_app.h>
+#include <superloc/app/localize_app.h>
 #include <superloc_testing/testing.h>
 
 #include <algorithm>
@@ -16,7 +16,7 @@
 namespace superloc::testing {
 
 struct LocalizeRun {
-    localization::RunSummary summary;
+    app::RunSummary summary;
     std::vector<localization::FrameReport> frames;  ///< every frame's report, in order
     double ate = 0, worst_m = 0, worst_deg = 0;     ///< against the ground truth
     std::vector<double> err_m, err_deg;             ///< per frame (NaN: no GT)
@@ -42,8 +42,8 @@ inline LocalizeRun localizeAndCompare(const std::vector<std::string>& args, cons
     all.insert(all.end(), args.begin(), args.end());
     all.insert(all.end(), {"--out", out, "--quiet"});
     LocalizeRun r;
-    localization::LocalizeApp app;
-    EXPECT_EQ(app.initialize(all), localization::LocalizeApp::Action::Run);
+    app::LocalizeApp app;
+    EXPECT_EQ(app.initialize(all), app::LocalizeApp::Action::Run);
     EXPECT_EQ(app.run([&r](const localization::FrameReport& f) { r.frames.push_back(f); }), 0);
     r.summary = app.summary();
     const Trajectory gt = io::loadTum(gt_tum);

@@ -12,7 +12,7 @@
 #include <superloc/io/importers.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
-#include <superloc/localization/localize_app.h>
+#include <superloc/app/localize_app.h>
 #include <superloc_testing/testing.h>
 
 #include <cmath>
@@ -22,6 +22,7 @@
 
 using namespace superloc;
 using namespace superloc::localization;
+using namespace superloc::app;
 namespace fs = std::filesystem;
 
 namespace {

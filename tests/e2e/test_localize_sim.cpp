@@ -10,6 +10,7 @@
 
 using namespace superloc;
 using namespace superloc::localization;
+using namespace superloc::app;
 namespace fs = std::filesystem;
 
 namespace {

@@ -153,6 +153,16 @@ TEST(Timing, HandComputedPercentiles) {
     EXPECT_EQ(timingStats({}).frames, 0u);
 }
 
+TEST(Timing, MedianAndNearestRankPercentile) {
+    EXPECT_DOUBLE_EQ(median({3, 1, 2}), 2.0);
+    EXPECT_DOUBLE_EQ(median({4, 1, 3, 2}), 2.5);
+    EXPECT_DOUBLE_EQ(percentile({1, 2, 3, 4, 5}, 0.95), 5.0);  // ceil(4.75) = 5th value
+    EXPECT_DOUBLE_EQ(percentile({1, 2, 3, 4, 5}, 0.5), 3.0);
+    EXPECT_DOUBLE_EQ(percentile({5, 4, 3, 2, 1}, 0.2), 1.0);
+    EXPECT_DOUBLE_EQ(percentile({}, 0.5), 0.0);
+    EXPECT_DOUBLE_EQ(median({}), 0.0);
+}
+
 // An estimate far from GT in time matches nothing: no ATE, zero robustness, said in the summary.
 TEST(Metrics, NoMatchedFrames) {
     const Trajectory gt = line(5);

@@ -2,7 +2,9 @@
 #include <superloc/core/se3.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/imu_factor.h>
-#include <superloc/fusion/pose_factors.h>
+#include <superloc/fusion/pose_prior_factor.h>
+#include <superloc/fusion/relative_pose_factor.h>
+#include <superloc/fusion/speed_bias_prior_factor.h>
 #include <superloc/fusion/pose_manifold.h>
 #include <superloc/fusion/scan_factor.h>
 
@@ -10,20 +12,19 @@
 
 using namespace superloc;
 using namespace superloc::fusion;
-using features::FeatureType;
 
 namespace {
 // Box room 20 x 12 x 4 m with a pole (line) and a few isolated points; scan points seen from
 // the body pose T_true, correspondences with exact map geometry.
-std::vector<ScanCorrespondence> boxRoom(const SE3d& T_true, int n, unsigned seed) {
+std::vector<Correspondence> boxRoom(const SE3d& T_true, int n, unsigned seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(0, 1);
-    std::vector<ScanCorrespondence> out;
+    std::vector<Correspondence> out;
     struct Plane { Vec3d n; double d; };  // n . x = d
     const Plane planes[6] = {{Vec3d::UnitX(), -10}, {Vec3d::UnitX(), 10}, {Vec3d::UnitY(), -6},
                              {Vec3d::UnitY(), 6},   {Vec3d::UnitZ(), 0},  {Vec3d::UnitZ(), 4}};
     for (int i = 0; i < n; ++i) {
-        ScanCorrespondence c;
+        Correspondence c;
         const int kind = i % 10;
         Vec3d x_map;
         if (kind < 8) {
@@ -138,7 +139,7 @@ TEST(FrameProblem, RelativePosePriorHoldsAnUnconstrainedScan) {
     const SE3d T_prev = makePoseRPY(0, 0, 0.5, 0, 0, 0);
     const SE3d delta = makePoseRPY(0.8, 0.1, 0, 0, 0, 0.05);
     const SE3d T_true = T_prev * delta;
-    std::vector<ScanCorrespondence> floor;
+    std::vector<Correspondence> floor;
     for (const auto& c : boxRoom(T_true, 400, 9))
         if (c.type == FeatureType::Plane && c.n.z() > 0.5 && c.q.z() < 1) floor.push_back(c);
     ASSERT_GT(floor.size(), 30u);

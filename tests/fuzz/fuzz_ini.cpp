@@ -3,7 +3,7 @@
 // which stops after loading), then printed back (dumpConfig).
 // Input: lines starting with "--set " are overrides (the rest of the line is the assignment);
 // every other line is the INI text.
-#include <superloc/localization/localize_app.h>
+#include <superloc/app/localize_app.h>
 
 #include <string>
 #include <vector>
@@ -33,8 +33,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     args.push_back("--quiet");
     superloc::fuzz::writeBytes(path, reinterpret_cast<const uint8_t*>(ini.data()), ini.size());
     superloc::fuzz::expectLoadsOrThrowsOneLine([&] {
-        superloc::localization::LocalizeApp app;
-        if (app.initialize(args) != superloc::localization::LocalizeApp::Action::DumpConfig)
+        superloc::app::LocalizeApp app;
+        if (app.initialize(args) != superloc::app::LocalizeApp::Action::DumpConfig)
             std::abort();  // --dump-config always stops after loading
         const std::string dumped = app.dumpConfig();
         if (dumped.find("[localization]") == std::string::npos) std::abort();

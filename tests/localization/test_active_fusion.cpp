@@ -10,7 +10,7 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/localization/localizer.h>
-#include <superloc/localization/observability_scan.h>
+#include <superloc/app/observability_scan.h>
 #include <superloc/risk/alignment_risk.h>
 
 #include <cmath>
@@ -18,7 +18,6 @@
 
 using namespace superloc;
 using namespace superloc::fusion;
-using features::FeatureType;
 
 namespace {
 constexpr double kDeg = M_PI / 180;
@@ -32,8 +31,8 @@ const std::vector<Plane> kCorridor = {{1, -2}, {1, 2}, {2, -1}, {2, 2}};
 
 // Rays from the body pose T (sensor at the body origin): hits within 30 m as point-to-plane
 // correspondences (scan point in the body frame, exact map plane) and as risk inputs.
-void castCorridor(const SE3d& T, std::vector<ScanCorrespondence>& corr,
-                  std::vector<risk::Correspondence>& risk_in, int n_az = 120, int n_el = 16) {
+void castCorridor(const SE3d& T, std::vector<Correspondence>& corr,
+                  std::vector<Correspondence>& risk_in, int n_az = 120, int n_el = 16) {
     corr.clear();
     risk_in.clear();
     for (int e = 0; e < n_el; ++e) {
@@ -51,14 +50,14 @@ void castCorridor(const SE3d& T, std::vector<ScanCorrespondence>& corr,
                 if (t > 0 && t < best) best = t, hit = static_cast<int>(k);
             }
             if (hit < 0) continue;
-            ScanCorrespondence c;
+            Correspondence c;
             c.p = best * d_b;
             c.q = o + best * d;  // the hit, exactly on the plane
             c.q[kCorridor[hit].axis] = kCorridor[hit].offset;
             c.n = Vec3d::Unit(kCorridor[hit].axis);
             c.type = FeatureType::Plane;
             corr.push_back(c);
-            risk::Correspondence r;
+            Correspondence r;
             r.p = c.p;
             r.n = T.linear().transpose() * c.n;
             if (r.n.dot(r.p) > 0) r.n = -r.n;
@@ -95,8 +94,8 @@ TEST(PriorWeight, ScanInformationMatchesNumericBodyJacobian) {
     // H = sum w J^T J / sigma^2 with J the residual's derivative w.r.t. a body perturbation
     // T Exp(d) (toVec6 order), checked against central differences, at a rotated pose.
     const SE3d T = makePoseRPY(3, -1, 0.5, 0.1, -0.2, 0.7);
-    std::vector<ScanCorrespondence> corr;
-    std::vector<risk::Correspondence> unused;
+    std::vector<Correspondence> corr;
+    std::vector<Correspondence> unused;
     castCorridor(T, corr, unused, 12, 4);
     ASSERT_GT(corr.size(), 20u);
     corr[1].weight = 0.3;
@@ -131,8 +130,8 @@ TEST(PriorWeight, CorridorPriorWinsOnXOnly) {
     const SE3d T_prev = makePoseRPY(2, 0.1, 0.2, 0, 0, 0);
     const SE3d delta_true = makePoseRPY(0.5, 0.02, -0.01, 0, 0, 0);
     const SE3d T_true = T_prev * delta_true;
-    std::vector<ScanCorrespondence> corr;
-    std::vector<risk::Correspondence> risk_in;
+    std::vector<Correspondence> corr;
+    std::vector<Correspondence> risk_in;
     castCorridor(T_true, corr, risk_in);
     const auto risk = risk::computeAlignmentRisk(risk_in, risk::RiskParams{});
     ASSERT_EQ(risk::degenerateAxes(risk), "x");
@@ -198,7 +197,7 @@ TEST(EigenRemap, ProjectsOutTheWeakEigenDirection) {
 }
 
 TEST(ObservabilityScan, VoxelMajorityColourAndPly) {
-    localization::ObservabilityScan obs(0.5);
+    app::ObservabilityScan obs(0.5);
     obs.add(
         {Vec3f(0.1f, 0.1f, 0.1f), Vec3f(0.2f, 0.1f, 0.1f), Vec3f(0.3f, 0.2f, 0.1f), Vec3f(5, 0, 0)},
         {0, 1, 1, 2});

@@ -40,7 +40,7 @@ double inlierFraction(const PointCloud& scan, const map::PriorMap& map, const SE
         if (scan.points[i].norm() > 1.0f) pts.push_back(scan.points[i].cast<double>());
     AssociationParams ap;
     ap.max_dist = 0.5;
-    std::vector<fusion::ScanCorrespondence> corr;
+    std::vector<Correspondence> corr;
     AssociationStats st;
     associate(pts, T, map, ap, corr, st);
     return inlierStats(corr, pts.size(), T, 0.05).ratio;

@@ -5,7 +5,8 @@
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
-#include <superloc/map/map_app.h>
+#include <superloc/app/command_line.h>
+#include <superloc/app/map_app.h>
 #include <superloc/map/map_builder.h>
 #include <superloc/map/prior_map.h>
 #include <superloc_testing/testing.h>
@@ -154,7 +155,7 @@ TEST(MapBuilder, ScansOutsideThePosesAreCountedAndMissingGtIsAnError) {
 TEST(MapApp, CommandLineErrorsAreOneLine) {
     const auto parse = [](std::vector<const char*> v) {
         v.insert(v.begin(), "superloc-map");
-        return map::parseMapAppArgs(static_cast<int>(v.size()), v.data());
+        return app::parseMapAppArgs(app::argList(static_cast<int>(v.size()), v.data()));
     };
     EXPECT_TRUE(parse({"--help"}).help);
     for (const auto& bad : std::vector<std::vector<const char*>>{
@@ -178,14 +179,14 @@ TEST(MapApp, WritesTheMapAndItsStats) {
     const std::string out = f.dir + "/map.pcd";
     std::vector<const char*> argv = {"superloc-map", "--rawlog", f.rawlog.c_str(), "--out",
                                      out.c_str(), "--voxel", "0.05", "--stats"};
-    map::MapApp app(map::parseMapAppArgs(static_cast<int>(argv.size()), argv.data()));
-    app.run();
+    app::MapApp map_app(app::parseMapAppArgs(app::argList(static_cast<int>(argv.size()), argv.data())));
+    map_app.run();
     const PointCloud m = io::loadPointCloud(out);
-    EXPECT_EQ(m.size(), app.result().map_points);
-    ASSERT_TRUE(app.stats().has_value());
-    EXPECT_EQ(app.stats()->points, m.size());
-    EXPECT_LT(app.stats()->median_planar_fit_residual, 0.005);  // exact walls: ~0 m
-    EXPECT_GT(app.stats()->planar_fraction, 0.5);
+    EXPECT_EQ(m.size(), map_app.result().map_points);
+    ASSERT_TRUE(map_app.stats().has_value());
+    EXPECT_EQ(map_app.stats()->points, m.size());
+    EXPECT_LT(map_app.stats()->median_planar_fit_residual, 0.005);  // exact walls: ~0 m
+    EXPECT_GT(map_app.stats()->planar_fraction, 0.5);
 }
 
 TEST(MapApp, UnknownIniKeyIsAnError) {
@@ -193,7 +194,7 @@ TEST(MapApp, UnknownIniKeyIsAnError) {
     const std::string out = f.dir + "/map.pcd";
     std::vector<const char*> argv = {"superloc-map", "--rawlog", f.rawlog.c_str(), "--out",
                                      out.c_str(), "--set", "rawlog.gt_lable=x"};
-    EXPECT_THROW(map::parseMapAppArgs(static_cast<int>(argv.size()), argv.data()), superloc::ConfigError);
+    EXPECT_THROW(app::parseMapAppArgs(app::argList(static_cast<int>(argv.size()), argv.data())), superloc::ConfigError);
 }
 
 TEST(MapBuilder, StoredNormalsFaceTheRoomInterior) {

@@ -3,7 +3,8 @@
 #include <superloc/core/se3.h>
 #include <superloc/io/importers.h>
 #include <superloc/io/tum.h>
-#include <superloc/map/map_app.h>
+#include <superloc/app/command_line.h>
+#include <superloc/app/map_app.h>
 #include <superloc/map/map_builder.h>
 #include <superloc/map/prior_map.h>
 #include <superloc_testing/testing.h>
@@ -87,7 +88,7 @@ TEST(MapReal, PriorMapFromTheBuiltMapHasNormalsAlmostEverywhere) {
     const std::string out = c.dir + "/map.pcd";
     std::vector<const char*> argv = {"superloc-map", "--rawlog", c.rawlog.c_str(), "--out",
                                      out.c_str()};
-    map::MapApp(map::parseMapAppArgs(static_cast<int>(argv.size()), argv.data())).run();
+    app::MapApp(app::parseMapAppArgs(app::argList(static_cast<int>(argv.size()), argv.data()))).run();
     map::MapParams p;
     p.voxel_size = 0.2;
     const map::PriorMap m = map::PriorMap::load(out, p);

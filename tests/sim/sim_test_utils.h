@@ -1,7 +1,8 @@
 // Helpers for the sim tests: configs from the committed INIs, nearest-neighbour distances.
 #pragma once
 
-#include <superloc/sim/sim_app.h>
+#include <superloc/app/sim_app.h>
+#include <superloc/sim/sim_config.h>
 #include <superloc_testing/testing.h>
 
 #include <cmath>
@@ -13,6 +14,7 @@
 namespace simtest {
 using namespace superloc;
 using namespace superloc::sim;
+using namespace superloc::app;
 
 /// ini/sim/<world>.ini with overrides, plus a cheap sensor unless the test says otherwise.
 inline SimConfig worldConfig(const std::string& world, std::vector<std::string> sets = {},

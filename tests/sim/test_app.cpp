@@ -37,7 +37,7 @@ TEST(SimAppExe, HelpAndErrors) {
     REQUIRE_APP();
     const AppRun help = runApp("--help");
     EXPECT_EQ(help.code, 0);
-    EXPECT_NE(help.out.find("Usage: superloc-sim CONFIG.ini"), std::string::npos) << help.out;
+    EXPECT_NE(help.out.find("Usage: superloc-sim [OPTIONS] CONFIG.ini"), std::string::npos) << help.out;
 
     const std::string ini = superloc::testing::sourcePath("ini/sim/office.ini");
     const AppRun dump = runApp(ini + " --dump-config --set imu.rate_hz=400");

@@ -9,6 +9,7 @@
 
 using namespace superloc;
 using namespace superloc::sim;
+using namespace superloc::app;
 
 namespace {
 

@@ -1,7 +1,9 @@
 #include <ceres/ceres.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/imu_factor.h>
-#include <superloc/fusion/pose_factors.h>
+#include <superloc/fusion/pose_prior_factor.h>
+#include <superloc/fusion/relative_pose_factor.h>
+#include <superloc/fusion/speed_bias_prior_factor.h>
 #include <superloc/fusion/pose_manifold.h>
 
 #include <cmath>

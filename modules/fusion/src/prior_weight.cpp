@@ -44,7 +44,7 @@ void ActiveFusionParams::validate() const {
     positive(odom_sigma_min_rot_deg, "odom_sigma_min_rot_deg");
 }
 
-Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T, double sigma,
+Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, double sigma,
                       const std::vector<double>* sqrt_w) {
     // The scan factor's analytic Jacobian is w.r.t. PoseManifold's [dt (map), dtheta (body)];
     // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0

@@ -7,7 +7,6 @@
 
 namespace superloc::fusion {
 
-using features::FeatureType;
 
 RobustKernel robustKernelFromString(const std::string& s) {
     if (s == "none") return RobustKernel::None;
@@ -38,7 +37,7 @@ void lineBasis(const Vec3d& d, Vec3d& e1, Vec3d& e2) {
 }
 }  // namespace
 
-void correspondenceResidual(const ScanCorrespondence& c, const Mat3d& R, const Vec3d& t,
+void correspondenceResidual(const Correspondence& c, const Mat3d& R, const Vec3d& t,
                             double* r, double* J) {
     const Vec3d Rp = R * c.p;
     const Vec3d e = Rp + t - c.q;
@@ -70,7 +69,7 @@ void correspondenceResidual(const ScanCorrespondence& c, const Mat3d& R, const V
     }
 }
 
-double correspondenceError(const ScanCorrespondence& c, const SE3d& T) {
+double correspondenceError(const Correspondence& c, const SE3d& T) {
     double r[3];
     correspondenceResidual(c, T.linear(), T.translation(), r, nullptr);
     const int d = residualDim(c.type);
@@ -79,7 +78,7 @@ double correspondenceError(const ScanCorrespondence& c, const SE3d& T) {
     return std::sqrt(s);
 }
 
-ScanFactor::ScanFactor(std::vector<ScanCorrespondence> corr, double sigma)
+ScanFactor::ScanFactor(std::vector<Correspondence> corr, double sigma)
     : corr_(std::move(corr)), inv_sigma_(1.0 / sigma) {
     int n = 0;
     sqrt_w_.resize(corr_.size());
@@ -116,7 +115,7 @@ bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
     int row = 0;
     double r[3], Jt[18];
     for (size_t i = 0; i < corr_.size(); ++i) {
-        const ScanCorrespondence& c = corr_[i];
+        const Correspondence& c = corr_[i];
         const int d = residualDim(c.type);
         correspondenceResidual(c, R, t, r, J ? Jt : nullptr);
         const double s = sqrt_w_[i] * inv_sigma_;

@@ -8,12 +8,11 @@
 
 namespace superloc::localization {
 
-using features::FeatureType;
 
 namespace {
 void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                       const map::PriorMap& map, const AssociationParams& p,
-                      std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+                      std::vector<Correspondence>& out, AssociationStats& stats,
                       std::vector<uint32_t>* feature_of) {
     // Nearest map point (kd-tree) and its precomputed neighbourhood geometry.
     if (map.size() == 0) return;
@@ -29,7 +28,7 @@ void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body
             continue;
         }
         const map::PointGeometry& g = map.geometry(j);
-        fusion::ScanCorrespondence c;
+        Correspondence c;
         c.p = pts_body[i];
         c.q = map.point(j).cast<double>();
         c.type = features::classifyShape(g.planarity, g.linearity, p.plane_max_thickness,
@@ -69,7 +68,7 @@ void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body
 
 void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                      const map::PriorMap& map, const AssociationParams& p,
-                     std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+                     std::vector<Correspondence>& out, AssociationStats& stats,
                      std::vector<uint32_t>* feature_of) {
     // The voxel containing the point at the level asked for (one hash probe) and its statistics.
     const map::VoxelMap& vm = map.voxels();
@@ -85,7 +84,7 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
             ++stats.too_far;
             continue;
         }
-        fusion::ScanCorrespondence c;
+        Correspondence c;
         c.p = pts_body[i];
         c.q = v->mean.cast<double>();
         c.type = features::classifyShape(v->planarity, v->linearity, p.plane_max_thickness,
@@ -122,7 +121,7 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
 }  // namespace
 
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
-               const AssociationParams& p, std::vector<fusion::ScanCorrespondence>& out,
+               const AssociationParams& p, std::vector<Correspondence>& out,
                AssociationStats& stats, std::vector<uint32_t>* feature_of) {
     out.clear();
     stats = {};
@@ -133,7 +132,7 @@ void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const
         associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of);
 }
 
-InlierStats inlierStats(const std::vector<fusion::ScanCorrespondence>& corr, size_t n_features,
+InlierStats inlierStats(const std::vector<Correspondence>& corr, size_t n_features,
                         const SE3d& T_map_body, double inlier_dist) {
     InlierStats s;
     double sum2 = 0;

@@ -38,7 +38,7 @@ void Localizer::observabilityPoints(std::vector<Vec3f>& points, std::vector<int8
     const SE3d T = cur_.T_map_imu();
     risk::RiskParams rp = params_.risk;
     rp.hessian_eigen = false;
-    const auto risk = risk::computeAlignmentRisk(riskInputs(T, T_imu_lidar_.translation()), rp);
+    const auto risk = risk::computeAlignmentRisk(corr_, T, T_imu_lidar_.translation(), rp);
     points.reserve(corr_.size());
     labels.reserve(corr_.size());
     for (size_t i = 0; i < corr_.size(); ++i) {

@@ -195,8 +195,8 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             // Step 4: alignment risk before the optimisation at this resolution (DESIGN §5): at the
             // predicted pose, and for a wide frame again when the finest level starts.
             t0 = Clock::now();
-            const auto risk = risk::computeAlignmentRisk(
-                riskInputs(T_before, T_imu_lidar_.translation()), params_.risk);
+            const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
+                                                         params_.risk);
             rep.setRisk(risk);
             prior = from_hypothesis ? std::nullopt : activePrior(risk);
             rep.ms.risk += msSince(t0);
@@ -274,7 +274,7 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
     rep.ms.associate += msSince(ta);
     ta = Clock::now();
     const auto risk =
-        risk::computeAlignmentRisk(riskInputs(cur_.T_map_imu(), T_imu_lidar.translation()), params_.risk);
+        risk::computeAlignmentRisk(corr_, cur_.T_map_imu(), T_imu_lidar.translation(), params_.risk);
     rep.setRisk(risk);
     rep.ms.risk += msSince(ta);
     const auto t0 = Clock::now();

@@ -64,7 +64,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     struct Outcome {
         FrameReport rep;
         fusion::FrameState state;
-        std::vector<fusion::ScanCorrespondence> corr;
+        std::vector<Correspondence> corr;
         AssociationStats stats;
         SE3d T_map_lidar;
     };

@@ -24,9 +24,33 @@ int secondAbs(const Vec3d& v, int first) {
     return best;
 }
 
-bool usable(const Correspondence& c) {
-    return c.p.allFinite() && c.n.allFinite() && std::isfinite(c.weight) && c.weight > 0 &&
-           c.n.squaredNorm() > 1e-24;
+/// The correspondence seen from the sensor (see computeAlignmentRisk): its point relative to
+/// the sensor and its constraint direction, both in body axes.
+struct SensorView {
+    Vec3d p, n;
+};
+
+SensorView sensorView(const Correspondence& c, const SE3d& T_map_body, const Vec3d& origin) {
+    SensorView v;
+    v.p = c.p - origin;
+    const Vec3d x = T_map_body * c.p;
+    Vec3d n;
+    switch (c.type) {
+        case FeatureType::Plane: n = c.n; break;
+        case FeatureType::Line: {
+            const Vec3d e = x - c.q;
+            n = e - e.dot(c.n) * c.n;
+            break;
+        }
+        default: n = x - c.q; break;
+    }
+    n = T_map_body.linear().transpose() * n;
+    v.n = n.dot(v.p) > 0 ? Vec3d(-n) : n;  // toward the sensor
+    return v;
+}
+
+bool usable(const SensorView& v, double weight) {
+    return v.p.allFinite() && v.n.allFinite() && std::isfinite(weight) && weight > 0 && v.n.squaredNorm() > 1e-24;
 }
 
 /// Paper eq. (7)-(8): gamma within one group of three labels, scaled so that a uniform spread
@@ -46,8 +70,12 @@ bool RiskReport::anyDegenerate() const {
     return false;
 }
 
-RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences,
-                                const RiskParams& params) {
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences, const RiskParams& params) {
+    return computeAlignmentRisk(correspondences, SE3d::Identity(), Vec3d::Zero(), params);
+}
+
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences, const SE3d& T_map_body,
+                                const Vec3d& sensor_origin, const RiskParams& params) {
     RiskReport r;
     const size_t n = correspondences.size();
     r.translation_label.assign(n, kNoLabel);
@@ -57,13 +85,14 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
 
     for (size_t i = 0; i < n; ++i) {
         const Correspondence& c = correspondences[i];
-        if (!usable(c)) {
+        const SensorView v = sensorView(c, T_map_body, sensor_origin);
+        if (!usable(v, c.weight)) {
             r.skipped++;
             continue;
         }
         // Paper eq. (4): J_i = [p_i x n_i ; n_i]; stored translation first: [n_i ; p_i x n_i].
-        const Vec3d normal = c.n.normalized();
-        const Vec3d torque = c.p.cross(normal);
+        const Vec3d normal = v.n.normalized();
+        const Vec3d torque = v.p.cross(normal);
         const double w = params.weighted_labels ? c.weight : 1.0;
 
         // Table I of the paper: the translation label is the axis of largest |n_i . e_k|, the

@@ -1,7 +1,7 @@
 // Loading and validating the simulator's INI (sections [sim] [trajectory] [lidar] [imu]
 // [odom_alt] and one world section), with --set overrides and the [lidar] preset file.
 #include <superloc/core/config.h>
-#include <superloc/sim/sim_app.h>
+#include <superloc/sim/sim_config.h>
 #include <superloc/sim/worlds.h>
 
 #include <algorithm>
@@ -84,6 +84,42 @@ SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::stri
     for (const auto& k : keys) lidar_ini.write("lidar", k, c.ini.read_string("lidar", k, ""));
     c.lidar = load<LidarParams>(lidar_ini, "lidar", ini_path);
     return c;
+}
+
+std::string effectiveConfig(const SimConfig& c) {
+    mrpt::config::CConfigFileMemory eff;
+    c.sim.saveToConfigFile(eff, "sim");
+    c.trajectory.saveToConfigFile(eff, "trajectory");
+    LidarParams lidar = c.lidar;
+    lidar.preset.clear();  // its keys are all written here
+    lidar.saveToConfigFile(eff, "lidar");
+    c.imu.saveToConfigFile(eff, "imu");
+    c.odom_alt.saveToConfigFile(eff, "odom_alt");
+    std::string text =
+        "# superloc-sim: effective configuration of " + c.source + "\n" + eff.getContent();
+    // World sections as given (their Params are built and checked by the world builders).
+    for (const auto& w : worldNames()) {
+        if (!c.ini.sectionExists(w)) continue;
+        std::vector<std::string> keys;
+        c.ini.getAllKeys(w, keys);
+        text += "\n[" + w + "]\n";
+        for (const auto& k : keys)
+            text += stripIniValue(k) + " = " + stripIniValue(c.ini.read_string(w, k, "")) + "\n";
+    }
+    return text;
+}
+
+SimScene makeScene(const SimConfig& c) {
+    World world;
+    try {
+        world = buildWorld(c.sim.world, c.ini, c.source, c.sim.seed, c.trajectory.body_height);
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        throw ConfigError(msg.rfind(c.source, 0) == 0 ? msg : c.source + ": " + msg);
+    }
+    DensePath path = makeDensePath(world.route, c.trajectory.limits());
+    SmoothTrajectory traj(path, c.trajectory, c.sim.start_time, c.sim.duration);
+    return SimScene{std::move(world), std::move(path), std::move(traj)};
 }
 
 }  // namespace superloc::sim

@@ -3,11 +3,11 @@
 // (l1 - l2) / l1 (Demantké et al. 2011), as used for the paper's point, line and plane features.
 #pragma once
 
+#include <superloc/core/correspondence.h>
+
 #include <cstdint>
 
 namespace superloc::features {
-
-enum class FeatureType : uint8_t { Point = 0, Line = 1, Plane = 2 };
 
 /// Thickness l3 / l2 of a neighbourhood from its shape factors (1 when l2 vanishes).
 inline float shapeThickness(float planarity, float linearity) {
@@ -25,10 +25,6 @@ inline FeatureType classifyShape(float planarity, float linearity, double plane_
         return FeatureType::Plane;
     if (linearity >= line_min) return FeatureType::Line;
     return FeatureType::Point;
-}
-
-inline const char* featureTypeName(FeatureType t) {
-    return t == FeatureType::Plane ? "plane" : t == FeatureType::Line ? "line" : "point";
 }
 
 }  // namespace superloc::features

@@ -12,7 +12,7 @@
 namespace superloc::fusion {
 
 /// Relative motion of the body from the previous to the current frame measured by odom_alt,
-/// with its 6x6 square-root information in (x y z roll pitch yaw) order (see pose_factors.h).
+/// with its 6x6 square-root information in (x y z roll pitch yaw) order (see relative_pose_factor.h).
 struct RelativePosePrior {
     SE3d delta = SE3d::Identity();  ///< T_imu(prev)_imu(cur)
     Mat6d sqrt_info = Mat6d::Zero();

@@ -44,7 +44,7 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
 /// H = sum_i w_i / sigma^2 J_i^T J_i (the Gauss-Newton Hessian of paper eq. 1 / 12's scan term).
 /// w_i = fit weight * robust weight when `sqrt_w` (ScanFactor::sqrtWeights, squared) is given,
 /// else the fit weight alone.
-Mat6d scanInformation(const std::vector<ScanCorrespondence>& corr, const SE3d& T_map_imu,
+Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T_map_imu,
                       double sigma, const std::vector<double>* sqrt_w = nullptr);
 
 /// s_k = tr(H_tt) / 3 for x, y, z and tr(H_rr) / 3 for roll, pitch, yaw: the mean information

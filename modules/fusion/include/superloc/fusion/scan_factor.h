@@ -16,20 +16,12 @@
 
 #include <ceres/cost_function.h>
 #include <superloc/core/types.h>
-#include <superloc/features/classify.h>
+#include <superloc/core/correspondence.h>
 
 #include <string>
 #include <vector>
 
 namespace superloc::fusion {
-
-struct ScanCorrespondence {
-    Vec3d p = Vec3d::Zero();  ///< [m] scan point in the body (IMU) frame
-    Vec3d q = Vec3d::Zero();  ///< [m] map anchor point
-    Vec3d n = Vec3d::UnitZ(); ///< plane: unit normal; line: unit direction; point: unused
-    features::FeatureType type = features::FeatureType::Plane;
-    double weight = 1.0;      ///< fit quality in [0, 1]
-};
 
 enum class RobustKernel { None, Huber, Cauchy };
 /// "none", "huber", "cauchy"; throws std::invalid_argument on anything else.
@@ -38,29 +30,29 @@ RobustKernel robustKernelFromString(const std::string& s);
 double robustWeight(RobustKernel kernel, double r, double k);
 
 /// Number of scalar residuals of a correspondence (1, 2 or 3).
-int residualDim(features::FeatureType t);
+int residualDim(FeatureType t);
 /// Unweighted residual of one correspondence at pose (R, t) into r (residualDim entries) and,
 /// when J is not null, its Jacobian w.r.t. [dt, dtheta] (row-major, residualDim x 6).
-void correspondenceResidual(const ScanCorrespondence& c, const Mat3d& R, const Vec3d& t,
+void correspondenceResidual(const Correspondence& c, const Mat3d& R, const Vec3d& t,
                             double* r, double* J);
 /// Norm of the unweighted residual (point-to-plane distance etc.).
-double correspondenceError(const ScanCorrespondence& c, const SE3d& T_map_imu);
+double correspondenceError(const Correspondence& c, const SE3d& T_map_imu);
 
 class ScanFactor : public ceres::CostFunction {
    public:
     /// sigma [m]: measurement standard deviation the residuals are divided by.
-    ScanFactor(std::vector<ScanCorrespondence> corr, double sigma);
+    ScanFactor(std::vector<Correspondence> corr, double sigma);
 
     /// IRLS: per-correspondence weight = fit weight * rho'(|r|) at T_map_imu.
     void setRobustWeights(const SE3d& T_map_imu, RobustKernel kernel, double scale);
-    const std::vector<ScanCorrespondence>& correspondences() const { return corr_; }
+    const std::vector<Correspondence>& correspondences() const { return corr_; }
     const std::vector<double>& sqrtWeights() const { return sqrt_w_; }
 
     bool Evaluate(double const* const* parameters, double* residuals,
                   double** jacobians) const override;
 
    private:
-    std::vector<ScanCorrespondence> corr_;
+    std::vector<Correspondence> corr_;
     std::vector<double> sqrt_w_;
     double inv_sigma_;
 };

@@ -36,7 +36,7 @@ struct AssociationStats {
 /// in the body frame, T_map_body the pose to associate at.
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                const map::PriorMap& map, const AssociationParams& p,
-               std::vector<fusion::ScanCorrespondence>& out, AssociationStats& stats,
+               std::vector<Correspondence>& out, AssociationStats& stats,
                std::vector<uint32_t>* feature_of = nullptr);
 
 /// Fraction of features whose nearest-map-point residual (plane/line/point distance of their
@@ -46,7 +46,7 @@ struct InlierStats {
     double rms = 0;   ///< [m] over inliers
     size_t inliers = 0;
 };
-InlierStats inlierStats(const std::vector<fusion::ScanCorrespondence>& corr, size_t n_features,
+InlierStats inlierStats(const std::vector<Correspondence>& corr, size_t n_features,
                         const SE3d& T_map_body, double inlier_dist);
 
 }  // namespace superloc::localization

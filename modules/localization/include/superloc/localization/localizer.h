@@ -136,7 +136,6 @@ class Localizer : public mrpt::system::COutputLogger {
     /// What the next frame starts from: the last frame not lost, or (after a lost one) a
     /// restart from it at rest.
     void updateTrackingState(const Scan& scan, const Prediction& pred, const FrameReport& rep);
-    std::vector<risk::Correspondence> riskInputs(const SE3d& T_map_imu, const Vec3d& sensor_origin) const;
 
     LocalizerParams params_;
     Method method_;
@@ -177,7 +176,7 @@ class Localizer : public mrpt::system::COutputLogger {
     std::vector<uint32_t> valid_, candidates_, feature_idx_, map_idx_;
     std::vector<Vec3f> deskewed_, map_points_, ndt_source_;
     std::vector<Vec3d> pts_body_;
-    std::vector<fusion::ScanCorrespondence> corr_;
+    std::vector<Correspondence> corr_;
     AssociationStats last_stats_;
     mutable int odom_alt_state_ = 0;  ///< 0 not checked yet, 1 available, -1 missing (logged)
 };

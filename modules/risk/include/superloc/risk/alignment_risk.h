@@ -7,6 +7,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <superloc/core/correspondence.h>
 #include <superloc/core/types.h>
 
 #include <array>
@@ -16,22 +17,6 @@
 #include <vector>
 
 namespace superloc::risk {
-
-enum class CorrespondenceType : uint8_t { Point = 0, Line = 1, Plane = 2 };
-
-/// One scan-to-map correspondence as seen by the risk analysis.
-struct Correspondence {
-    /// [m] the scan point relative to the sensor origin, in body axes (NOT map coordinates:
-    /// the rotation labels are torques about the sensor; see doc/method.md).
-    Vec3d p = Vec3d::Zero();
-    /// Unit constraint direction, flipped toward the sensor: the plane normal; for a line the
-    /// unit vector from the line to the point; for a point the unit vector from the map point
-    /// to the scan point. Need not be exactly unit (it is normalised); zero = unusable.
-    Vec3d n = Vec3d::UnitZ();
-    /// Fit quality in [0, 1] (e.g. the map planarity); its label counts this much. <= 0 = ignore.
-    double weight = 1.0;
-    CorrespondenceType type = CorrespondenceType::Plane;
-};
 
 /// Section [risk] of the INI.
 struct RiskParams : public mrpt::config::CLoadableOptions {
@@ -67,7 +52,7 @@ struct RiskReport {
     std::vector<int8_t> rotation_label2;
     /// N_x .. N_yaw: number of labels per axis (sum of weights when weighted_labels).
     Vec6d counts = Vec6d::Zero();
-    std::array<size_t, 3> used_by_type{};  ///< used correspondences by CorrespondenceType
+    std::array<size_t, 3> used_by_type{};  ///< used correspondences by FeatureType
     size_t skipped = 0;                    ///< non-finite, zero normal or weight <= 0
     /// Confidence gamma_k = min(1, 3 N_k / (N_x + N_y + N_z)), likewise for rotation; 0 for an
     /// empty group. Sigma_cov = diag(gamma).
@@ -95,9 +80,18 @@ struct RiskReport {
     bool anyDegenerate() const;
 };
 
-/// The risk step: labels, counts, gamma, flags and Hessian eigen-analysis.
-RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences,
-                                const RiskParams& params);
+/// The risk step: labels, counts, gamma, flags and Hessian eigen-analysis of the frame's
+/// correspondences at the body pose T_map_body, with the sensor at `sensor_origin` (body frame).
+/// Each correspondence is seen from the sensor: its point relative to the sensor in body axes
+/// (the rotation labels are torques about the sensor; doc/method.md) and its constraint
+/// direction in body axes, flipped toward the sensor — the plane normal; for a line the unit
+/// vector from the line to the point; for a point the one from the map point to the scan point.
+/// Correspondences with a non-finite value, a zero direction or weight <= 0 are skipped.
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences, const SE3d& T_map_body,
+                                const Vec3d& sensor_origin, const RiskParams& params);
+/// The same with the body at the map origin and the sensor at the body origin (correspondences
+/// already relative to the sensor, e.g. synthetic scenes).
+RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondences, const RiskParams& params);
 
 /// The flagged axes as letters in 6-vector order, e.g. "x", "xyaw", "" when none
 /// (the `degenerate` column of frames.csv).

@@ -1,0 +1,37 @@
+// The benchmark suite's tables (paper Table I shape) and JSON (DESIGN §8, issue 6).
+#pragma once
+
+#include <superloc/eval/evaluation.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace superloc::app {
+
+/// One (sequence, method) run of a suite.
+struct RunRecord {
+    std::string sequence, method;
+    std::string status = "ok";  ///< "ok", or why not: "exit 3", "timeout", "no trajectory", ...
+    std::optional<eval::EvalResult> result;  ///< evaluated (also for a failed run that left poses)
+    double wall_s = 0;                 ///< [s] wall time of the localize process
+    double peak_rss_mb = 0;            ///< [MiB]
+    double gt_length_m = 0;            ///< [m] path length of the sequence's GT
+};
+
+/// results.md: one table per metric (rows = methods, columns = sequences, like the paper's
+/// Table I), best value per column in bold, and a status list of runs that did not finish.
+/// `preamble` (command, commit, date) is written under the title; `plots` (file names relative
+/// to results.md) are embedded as images at the end.
+std::string resultsMarkdown(const std::vector<RunRecord>& runs,
+                            const std::vector<std::string>& sequences,
+                            const std::vector<std::string>& methods, const std::string& preamble,
+                            const std::vector<std::string>& plots = {});
+
+/// results.json: {"runs": [...]} with every metric (no curves) per run.
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path);
+
+/// Path length [m] of a trajectory (sum of consecutive translation distances).
+double pathLength(const Trajectory& traj);
+
+}  // namespace superloc::app

@@ -1,0 +1,35 @@
+// Running the other SuperLoc apps as child processes (superloc-bench keeps modules independent
+// by invoking superloc-sim / -import / -map / -localize rather than linking them).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace superloc::app {
+
+struct ProcessResult {
+    bool started = false;    ///< the executable could be run
+    int exit_code = -1;      ///< exit status (128 + signal when killed by a signal)
+    bool timed_out = false;  ///< killed after the timeout
+    double wall_s = 0;       ///< [s] wall time
+    double peak_rss_mb = 0;  ///< [MiB] peak resident memory of the child (rusage ru_maxrss)
+    bool ok() const { return started && !timed_out && exit_code == 0; }
+};
+
+/// Runs argv[0] with argv, stdout and stderr appended to `log_path`; kills the child (SIGKILL,
+/// by its pid) after `timeout_s` seconds (<= 0: no limit).
+ProcessResult runProcess(const std::vector<std::string>& argv, const std::string& log_path,
+                         double timeout_s);
+
+/// Installs SIGINT/SIGTERM handlers that kill the running child of runProcess (by its pid) and
+/// exit with 128 + signal, so stopping superloc-bench does not leave a localizer running.
+void killChildOnTermination();
+
+/// Path of a SuperLoc executable: `dir/name`, then `dir/../name/name` (the build tree's
+/// apps/<name>/<name>), then the PATH. Empty when not found.
+std::string findTool(const std::string& name, const std::string& dir);
+
+/// Folder of the running executable (/proc/self/exe).
+std::string selfDir();
+
+}  // namespace superloc::app

@@ -1,0 +1,80 @@
+// Outputs of a localization run (DESIGN §9), written progressively: the app layer's writers.
+//   trajectory.tum  one pose per frame (flushed per line)
+//   frames.csv      one localization::FrameReport per line (flushed per line), header below
+//   summary.json    counts and timing statistics (at the end)
+//   localized_map.pcd  every scan's points at its estimate, voxelized (at the end)
+#pragma once
+
+#include <superloc/core/types.h>
+#include <superloc/core/voxel.h>
+#include <superloc/io/json_file.h>
+#include <superloc/io/rawlog.h>
+#include <superloc/localization/frame_report.h>
+
+#include <fstream>
+#include <memory>
+#include <array>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+namespace superloc::io {
+class TumWriter;
+}
+
+namespace superloc::app {
+
+/// The frames.csv header (DESIGN §9 columns first, then the localizer's own).
+std::string framesCsvHeader();
+/// One frames.csv line for a report; `T` is the pose written (lidar or body, per output_frame).
+std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T);
+
+/// Statistics of a run for summary.json.
+struct RunSummary {
+    std::string method;
+    std::string status = "ok";  ///< "ok", or "failed": the run stopped on an error (exit code 1)
+    std::string error;          ///< the one-line reason when it failed
+    io::RawlogStats rawlog;     ///< what the rawlog reader read and skipped (e.g. empty scans)
+    size_t frames = 0, diverged = 0, converged = 0, used_imu = 0;
+    size_t with_prior = 0;               ///< frames whose solve had an odom_alt prior
+    size_t recovered = 0;                ///< frames replaced by a verified relocalization
+    std::array<size_t, 3> health{};      ///< frames ok, degraded, lost
+    size_t flagged = 0;                  ///< frames with at least one degenerate axis
+    size_t flagged_without_prior = 0;    ///< of those, frames solved without a prior
+    std::array<size_t, 6> flagged_axis{};  ///< frames flagging x, y, z, roll, pitch, yaw
+    double ms_median = 0, ms_p95 = 0, ms_mean = 0, fps = 0;  ///< wall time per frame
+    double cpu_ms_median = 0;  ///< thread CPU time per frame
+    localization::StageTimes stage_median;  ///< median per stage
+    size_t map_points = 0;
+    double map_prepare_s = 0;
+    // Against the rawlog's ground truth when it has one (frames matched by time).
+    size_t gt_matched = 0;
+    double ate_rmse = -1, ate_max = -1;  ///< [m], -1 when no ground truth
+};
+
+/// summary.json's content (non-finite numbers left as they are: io::saveJson writes them as
+/// null with a warning).
+io::Json summaryJson(const RunSummary& s);
+
+class RunOutputs {
+   public:
+    /// Creates DIR (and parents) and opens trajectory.tum and frames.csv. Throws
+    /// std::runtime_error naming the path when it cannot.
+    RunOutputs(const std::string& dir, double map_voxel);
+    ~RunOutputs();
+
+    void addFrame(const localization::FrameReport& r, const SE3d& T_written, const std::vector<Vec3f>& map_points);
+    /// Writes summary.json and localized_map.pcd.
+    void finish(const RunSummary& s);
+    const std::string& dir() const { return dir_; }
+
+   private:
+    std::string dir_;
+    std::unique_ptr<io::TumWriter> tum_;
+    std::ofstream csv_;
+    float voxel_;
+    std::unordered_set<VoxelKey, VoxelKeyHash> occupied_;
+    std::vector<Vec3f> map_;
+};
+
+}  // namespace superloc::app

@@ -1,0 +1,271 @@
+#include <CLI/CLI.hpp>
+#include <superloc/app/bench_app.h>
+#include <superloc/app/command_line.h>
+#include <superloc/app/process.h>
+#include <superloc/app/report_plots.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/tum.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+namespace superloc::app {
+namespace fs = std::filesystem;
+namespace {
+
+std::string status(const ProcessResult& p, double timeout_s) {
+    if (!p.started) return "could not start";
+    if (p.timed_out) return "timeout after " + std::to_string(static_cast<int>(timeout_s)) + " s";
+    if (p.exit_code != 0) return "exit " + std::to_string(p.exit_code);
+    return "ok";
+}
+
+bool allExist(const std::vector<std::string>& paths) {
+    for (const auto& p : paths)
+        if (!fs::exists(p)) return false;
+    return true;
+}
+
+}  // namespace
+
+namespace {
+
+struct BenchFlags {
+    std::string suite_path, only_seq, only_meth;
+};
+
+void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
+    cli.description(
+        "Runs every method of a suite on every sequence, evaluates, writes DIR/results.md,\n"
+        "DIR/results.json and DIR/*.svg (DESIGN §8).");
+    cli.add_option("SUITE.ini", f.suite_path, "the suite (e.g. ini/bench/quick.ini)")->required();
+    cli.add_option("--out", app.out_dir, "output folder (data/, runs/, logs/ and the results)")
+        ->type_name("DIR")
+        ->required();
+    cli.add_option("--data", app.data_dir, "real data sets folder (default: the build's SUPERLOC_SHARED_DATA)")
+        ->type_name("DIR");
+    cli.add_option("--tools", app.tools_dir,
+                   "folder of superloc-sim/-import/-map/-localize (default: next to this executable,\n"
+                   "the build tree, then PATH)")
+        ->type_name("DIR");
+    cli.add_option("--sequences", f.only_seq, "run only these sequences of the suite")->type_name("\"a b\"");
+    cli.add_option("--methods", f.only_meth, "run only these methods of the suite")->type_name("\"m1 m2\"");
+    cli.add_flag("--fresh", app.fresh, "regenerate simulated/imported data even if present");
+}
+
+}  // namespace
+
+std::string BenchApp::usage() {
+    CLI::App cli("", "superloc-bench");
+    BenchApp app;
+    BenchFlags f;
+    defineCommandLine(cli, app, f);
+    return helpText(cli);
+}
+
+void BenchApp::initialize(const std::vector<std::string>& args) {
+    CLI::App cli("", "superloc-bench");
+    BenchFlags f;
+    defineCommandLine(cli, *this, f);
+    if (!parseCommandLine(cli, args)) {
+        help = true;
+        return;
+    }
+    const std::string& suite_path = f.suite_path;
+    const bool seq_given = cli.count("--sequences") > 0, meth_given = cli.count("--methods") > 0;
+    const std::string &only_seq = f.only_seq, &only_meth = f.only_meth;
+    if (tools_dir.empty()) tools_dir = selfDir();
+    suite = loadSuite(suite_path, data_dir);
+    if (seq_given) {
+        std::vector<SequenceSpec> keep;
+        for (const auto& name : splitWords(only_seq)) {
+            bool found = false;
+            for (const auto& s : suite.sequences)
+                if (s.name == name) keep.push_back(s), found = true;
+            if (!found)
+                throw std::invalid_argument("--sequences: '" + name + "' is not in " + suite_path);
+        }
+        suite.sequences = keep;
+    }
+    if (meth_given) suite.methods = splitWords(only_meth);
+    command_line_ = "superloc-bench";
+    for (const auto& a : args) command_line_ += " " + a;
+}
+
+std::string BenchApp::tool(const std::string& name) const {
+    const std::string t = findTool(name, tools_dir);
+    if (t.empty())
+        throw std::runtime_error(name + " not found next to superloc-bench (" + tools_dir +
+                                 "), in the build tree or on PATH");
+    return t;
+}
+
+std::string BenchApp::prepare(const SequenceSpec& seq, const SequenceFiles& f, std::ostream& log) {
+    const std::string logs = (fs::path(out_dir) / "logs").string();
+    const auto step = [&](const std::vector<std::string>& argv, const std::string& what) {
+        log << "  " << seq.name << ": " << what << ": " << joinCommand(argv) << std::endl;
+        const ProcessResult p =
+            runProcess(argv, logs + "/" + seq.name + "-" + what + ".log", suite.timeout_s);
+        const std::string st = status(p, suite.timeout_s);
+        return st == "ok" ? std::string()
+                          : what + " " + st + " (see logs/" + seq.name + "-" + what + ".log)";
+    };
+    if (seq.kind == SequenceSpec::Kind::Sim) {
+        if (!fresh && allExist({f.rawlog, f.gt_tum, f.gt_map, f.prior_map})) return "";
+        if (auto e = step(simCommand(tool("superloc-sim"), seq, f.dir), "sim"); !e.empty())
+            return e;
+    } else {
+        if (fresh || !fs::exists(f.rawlog))
+            if (auto e = step(importCommand(tool("superloc-import"), seq, f.rawlog), "import");
+                !e.empty())
+                return e;
+        if (fresh || !fs::exists(f.prior_map))
+            if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel,
+                                         f.prior_map, seq.map_scans),
+                              "prior-map");
+                !e.empty())
+                return e;
+        if (fresh || !fs::exists(f.gt_map))
+            if (auto e = step(
+                    mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.gt_map_voxel, f.gt_map),
+                    "gt-map");
+                !e.empty())
+                return e;
+    }
+    for (const auto& p : {f.rawlog, f.gt_tum, f.gt_map, f.prior_map})
+        if (!fs::exists(p)) return "missing " + p + " after preparing";
+    return "";
+}
+
+RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f,
+                           const std::string& method, const Trajectory& gt,
+                           const PointCloud& gt_map, std::ostream& log) {
+    RunRecord r;
+    r.sequence = seq.name;
+    r.method = method;
+    r.gt_length_m = pathLength(gt);
+    const fs::path dir = fs::path(out_dir) / "runs" / seq.name / method;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto argv =
+        localizeCommand(tool("superloc-localize"), suite, seq, method, f, dir.string());
+    log << "  " << seq.name << " / " << method << ": " << joinCommand(argv) << std::endl;
+    const ProcessResult p = runProcess(argv, (dir / "localize.log").string(), suite.timeout_s);
+    r.status = status(p, suite.timeout_s);
+    r.wall_s = p.wall_s;
+    r.peak_rss_mb = p.peak_rss_mb;
+    try {
+        const fs::path traj = dir / "trajectory.tum";
+        if (!fs::exists(traj)) {
+            r.status = r.status == "ok" ? "no trajectory" : r.status + "; no trajectory";
+            return r;
+        }
+        const Trajectory est = io::loadTum(traj.string());
+        PointCloud est_map;
+        if (fs::exists(dir / "localized_map.pcd"))
+            est_map = io::loadPointCloud((dir / "localized_map.pcd").string());
+        eval::FrameLog frames;
+        const bool has_frames = fs::exists(dir / "frames.csv");
+        if (has_frames) frames = eval::loadFrameLog((dir / "frames.csv").string());
+        r.result = eval::evaluate(est, gt, suite.eval, est_map.empty() ? nullptr : &est_map, &gt_map,
+                            has_frames ? &frames : nullptr);
+        const std::string stem = seq.name + "_" + method;
+        const std::vector<double> g =
+            has_frames ? minTranslationGamma(est, frames, suite.eval.assoc_tolerance)
+                       : std::vector<double>{};
+        writePlot(stem + "_top.svg",
+                  trajectoryTopViewSvg(gt, est, g, seq.name + " / " + method + " (top view)"));
+        if (has_frames && frames.has_gamma)
+            writePlot(stem + "_gamma.svg",
+                      gammaTimelineSvg(frames, 0.2, seq.name + " / " + method + ": γ"));
+    } catch (const std::exception& e) {
+        r.status = (r.status == "ok" ? "" : r.status + "; ") +
+                   "evaluation failed: " + std::string(e.what()).substr(0, 200);
+    }
+    return r;
+}
+
+void BenchApp::writePlot(const std::string& name, const std::string& svg) {
+    writeTextFile((fs::path(out_dir) / name).string(), svg);
+    if (std::find(plots.begin(), plots.end(), name) == plots.end()) plots.push_back(name);
+}
+
+void BenchApp::writeResults() const {
+    std::vector<std::string> seqs, meths = suite.methods;
+    for (const auto& s : suite.sequences) seqs.push_back(s.name);
+    char date[64];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    const std::string preamble = "Produced by `" + command_line_ + "` on " + date + ".\n";
+    writeTextFile((fs::path(out_dir) / "results.md").string(),
+                  resultsMarkdown(runs, seqs, meths, preamble, plots));
+    writeTextFile((fs::path(out_dir) / "results.json").string(), resultsJson(runs, suite.path));
+}
+
+int BenchApp::run(std::ostream& log) {
+    if (help) {
+        log << usage();
+        return 0;
+    }
+    fs::create_directories(fs::path(out_dir) / "logs");
+    runs.clear();
+    plots.clear();
+    for (const auto& seq : suite.sequences) {
+        const SequenceFiles f = sequenceFiles(seq, out_dir);
+        fs::create_directories(f.dir);
+        log << "[" << seq.name << "] preparing data" << std::endl;
+        std::string err;
+        Trajectory gt;
+        PointCloud gt_map;
+        try {
+            err = prepare(seq, f, log);
+            if (err.empty()) gt = io::loadTum(f.gt_tum), gt_map = io::loadPointCloud(f.gt_map);
+        } catch (const std::exception& e) {
+            err = std::string(e.what()).substr(0, 200);
+        }
+        std::vector<std::pair<std::string, eval::RobustnessCurve>> rp, rr;
+        for (const auto& method : suite.methods) {
+            if (!err.empty()) {
+                RunRecord r;
+                r.sequence = seq.name, r.method = method, r.status = "no data: " + err;
+                runs.push_back(r);
+                continue;
+            }
+            runs.push_back(runOne(seq, f, method, gt, gt_map, log));
+            const RunRecord& r = runs.back();
+            log << "  -> " << r.status;
+            if (r.result) {
+                char buf[160];
+                std::snprintf(buf, sizeof buf, ", ATE %.3f m, Rp %.3f, Rr %.3f",
+                              r.result->ate.trans.rmse, r.result->rp.area, r.result->rr.area);
+                log << buf;
+                if (r.result->map) {
+                    std::snprintf(buf, sizeof buf, ", map outliers %.2f %%",
+                                  r.result->map->outlier_percent);
+                    log << buf;
+                }
+                rp.emplace_back(method, r.result->rp);
+                rr.emplace_back(method, r.result->rr);
+            }
+            log << std::endl;
+            writeResults();
+        }
+        if (!rp.empty()) {
+            writePlot(seq.name + "_f1_trans.svg",
+                      f1CurvesSvg(rp, false, seq.name + ": F1 (translation RPE)"));
+            writePlot(seq.name + "_f1_rot.svg",
+                      f1CurvesSvg(rr, true, seq.name + ": F1 (rotation RPE)"));
+            writeResults();
+        }
+    }
+    writeResults();
+    for (const auto& r : runs)
+        if (!r.result) return 2;
+    return 0;
+}
+
+}  // namespace superloc::app

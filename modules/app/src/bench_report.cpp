@@ -1,0 +1,185 @@
+#include <superloc/core/se3.h>
+#include <superloc/app/bench_report.h>
+#include <superloc/io/json_file.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+
+namespace superloc::app {
+namespace {
+
+const RunRecord* find(const std::vector<RunRecord>& runs, const std::string& seq,
+                      const std::string& m) {
+    for (const auto& r : runs)
+        if (r.sequence == seq && r.method == m) return &r;
+    return nullptr;
+}
+
+struct Metric {
+    std::string title;
+    const char* format;
+    int better;  ///< -1 lower is better, +1 higher, 0 no ranking
+    std::function<std::optional<double>(const RunRecord&)> get;
+};
+
+std::vector<Metric> metrics(double outlier_threshold) {
+    char thr[64];
+    std::snprintf(thr, sizeof thr, "Map outliers [%%] (farther than %.0f cm from the GT map)",
+                  100 * outlier_threshold);
+    return {
+        {thr, "%.2f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result && r.result->map) return r.result->map->outlier_percent;
+             return std::nullopt;
+         }},
+        {"ATE RMSE [m] (map frame, no alignment)", "%.3f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result && r.result->matched_frames) return r.result->ate.trans.rmse;
+             return std::nullopt;
+         }},
+        {"Robustness Rp (translation)", "%.3f", +1,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result) return r.result->rp.area;
+             return std::nullopt;
+         }},
+        {"Robustness Rr (rotation)", "%.3f", +1,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result) return r.result->rr.area;
+             return std::nullopt;
+         }},
+        {"ms per frame (median)", "%.1f", -1,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result && r.result->timing) return r.result->timing->median_ms;
+             return std::nullopt;
+         }},
+        {"Frames with a degenerate axis [%] (risk module's flags)", "%.1f", 0,
+         [](const RunRecord& r) -> std::optional<double> {
+             if (r.result && r.result->degenerate_frame_percent)
+                 return *r.result->degenerate_frame_percent;
+             return std::nullopt;
+         }},
+    };
+}
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+}  // namespace
+
+double pathLength(const Trajectory& traj) {
+    double len = 0;
+    for (size_t i = 1; i < traj.size(); ++i)
+        len += translationDistance(traj[i - 1].pose, traj[i].pose);
+    return len;
+}
+
+std::string resultsMarkdown(const std::vector<RunRecord>& runs,
+                            const std::vector<std::string>& sequences,
+                            const std::vector<std::string>& methods, const std::string& preamble,
+                            const std::vector<std::string>& plots) {
+    double thr = 0.10;
+    for (const auto& r : runs)
+        if (r.result && r.result->map) thr = r.result->map->threshold;
+    std::string md = "# SuperLoc benchmark results\n\n" + preamble + "\n";
+    std::string head = "| Method |", rule = "|---|", dist = "| Distance [m] |";
+    for (const auto& s : sequences) {
+        head += " " + s + " |";
+        rule += "---:|";
+        double len = 0;
+        for (const auto& r : runs)
+            if (r.sequence == s) len = std::max(len, r.gt_length_m);
+        dist += " " + fmt("%.0f", len) + " |";
+    }
+    bool any_failed = false;
+    for (const Metric& m : metrics(thr)) {
+        md += "\n## " + m.title + "\n\n" + head + "\n" + rule + "\n" + dist + "\n";
+        // Best value per column.
+        std::vector<double> best(sequences.size(), std::numeric_limits<double>::quiet_NaN());
+        for (size_t c = 0; c < sequences.size() && m.better != 0; ++c)
+            for (const auto& meth : methods)
+                if (const RunRecord* r = find(runs, sequences[c], meth); r && r->status == "ok")
+                    if (const auto v = m.get(*r); v && std::isfinite(*v))
+                        if (std::isnan(best[c]) || (m.better < 0 ? *v < best[c] : *v > best[c]))
+                            best[c] = *v;
+        for (const auto& meth : methods) {
+            md += "| " + meth + " |";
+            for (size_t c = 0; c < sequences.size(); ++c) {
+                const RunRecord* r = find(runs, sequences[c], meth);
+                const auto v = r ? m.get(*r) : std::nullopt;
+                std::string cell = "–";
+                if (v && std::isfinite(*v)) {
+                    cell = fmt(m.format, *v);
+                    if (r->status == "ok" && fmt(m.format, *v) == fmt(m.format, best[c]))
+                        cell = "**" + cell + "**";
+                }
+                if (r && r->status != "ok") cell += " †", any_failed = true;
+                md += " " + cell + " |";
+            }
+            md += "\n";
+        }
+    }
+    if (any_failed) {
+        md += "\n† the run did not finish; its values (if any) cover the frames it wrote.\n\n";
+        for (const auto& r : runs)
+            if (r.status != "ok")
+                md += "- " + r.sequence + " / " + r.method + ": " + r.status + "\n";
+    }
+    bool any_health = false;
+    for (const auto& r : runs) any_health |= r.result && r.result->health.has_value();
+    if (any_health) {
+        md +=
+            "\n## Health vs ground-truth error\n\nFrames per health state (doc/health.md) and error "
+            "bucket: < 0.1 m | 0.1-0.5 m | > 0.5 m or > 5°. The last `ok` column must be 0: a frame "
+            "that far off reported `ok` is confidently wrong.\n\n| Sequence | Method | ok | degraded | "
+            "lost | ok and > 0.5 m |\n|---|---|---:|---:|---:|---:|\n";
+        const auto cells = [](const std::array<size_t, 3>& c) {
+            return std::to_string(c[0]) + " / " + std::to_string(c[1]) + " / " + std::to_string(c[2]);
+        };
+        for (const auto& r : runs) {
+            if (!r.result || !r.result->health) continue;
+            const auto& h = *r.result->health;
+            md += "| " + r.sequence + " | " + r.method + " | " + cells(h.counts[0]) + " | " + cells(h.counts[1]) +
+                  " | " + cells(h.counts[2]) + " | " + std::to_string(h.confidentlyWrong()) + " |\n";
+        }
+    }
+    md +=
+        "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] "
+        "|\n|---|---|---|---:|---:|---:|\n";
+    for (const auto& r : runs)
+        md += "| " + r.sequence + " | " + r.method + " | " + r.status + " | " +
+              (r.result ? std::to_string(r.result->est_frames) + "/" +
+                              std::to_string(r.result->gt_frames)
+                        : "–") +
+              " | " + fmt("%.1f", r.wall_s) + " | " + fmt("%.0f", r.peak_rss_mb) + " |\n";
+    if (!plots.empty()) {
+        md +=
+            "\n## Plots\n\nTop views: GT grey, estimate coloured by min(γ_x, γ_y, γ_z) (red 0 → "
+            "green 1). "
+            "γ timelines: threshold dashed, frames flagged degenerate shaded. F1(τ) curves of all "
+            "methods.\n\n";
+        for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
+    }
+    return md;
+}
+
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path) {
+    io::Json list = io::Json::array();
+    for (const auto& r : runs)
+        list.push_back({{"sequence", r.sequence},
+                        {"method", r.method},
+                        {"status", r.status},
+                        {"wall_s", r.wall_s},
+                        {"peak_rss_mb", r.peak_rss_mb},
+                        {"gt_length_m", r.gt_length_m},
+                        {"metrics", r.result ? eval::toJson(*r.result, false) : io::Json(nullptr)}});
+    return io::toJsonText({{"suite", suite_path}, {"runs", list}}, "results.json");
+}
+
+}  // namespace superloc::app

@@ -1,0 +1,356 @@
+#include <CLI/CLI.hpp>
+#include <mrpt/config/CConfigFileBase.h>
+#include <superloc/app/command_line.h>
+#include <superloc/core/config.h>
+#include <superloc/core/errors.h>
+#include <superloc/core/se3.h>
+#include <superloc/eval/timing.h>
+#include <superloc/eval/trajectory_metrics.h>
+#include <superloc/io/tum.h>
+#include <superloc/app/localize_app.h>
+#include <superloc/app/observability_scan.h>
+
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace superloc::app {
+
+namespace fs = std::filesystem;
+
+void RunParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
+    rawlog = c.read_string(s, "rawlog", rawlog);
+    map = c.read_string(s, "map", map);
+    out = c.read_string(s, "out", out);
+    initial_pose = c.read_string(s, "initial_pose", initial_pose);
+    initial_pose_tum = c.read_string(s, "initial_pose_tum", initial_pose_tum);
+    MRPT_LOAD_CONFIG_VAR(localized_map_voxel, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(save_localized_map, bool, c, s);
+}
+
+void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
+    MRPT_SAVE_CONFIG_VAR_COMMENT(rawlog, "input rawlog (--rawlog)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(map, "prior map file .pcd/.ply/... (--map)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(out, "output folder (--out)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose, "x y z qx qy qz qw of the LiDAR in the map, or auto (global search)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose_tum, "TUM file: its pose at the first scan's time is the initial pose");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(localized_map_voxel, "[m] voxel of localized_map.pcd");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(save_localized_map, "write localized_map.pcd");
+}
+
+void RunParams::validate() const {
+    if (localized_map_voxel < 0) throw ConfigError("[run] localized_map_voxel must be >= 0");
+    if (!initial_pose.empty() && !initial_pose_tum.empty())
+        throw ConfigError("[run] give initial_pose or initial_pose_tum, not both");
+    if (!initial_pose.empty() && initial_pose != "auto") parsePoseString(initial_pose, "[run] initial_pose");
+}
+
+SE3d parsePoseString(const std::string& s, const std::string& what) {
+    std::istringstream is(s);
+    double v[7];
+    for (double& x : v) {
+        std::string tok;
+        if (!(is >> tok) || !parseDouble(tok, x))
+            throw ConfigError(what + " = '" + s + "': expected 7 numbers \"x y z qx qy qz qw\"");
+    }
+    std::string extra;
+    if (is >> extra) throw ConfigError(what + " = '" + s + "': expected 7 numbers \"x y z qx qy qz qw\"");
+    if (std::abs(std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]) - 1.0) > 0.01)
+        throw ConfigError(what + " = '" + s + "': the quaternion is not unit");
+    return makePose(v[0], v[1], v[2], v[3], v[4], v[5], v[6]);
+}
+
+LocalizeApp::LocalizeApp() : mrpt::system::COutputLogger("superloc-localize") {}
+
+namespace {
+
+/// The command line of superloc-localize; every value lands in `a`.
+struct LocalizeArgs {
+    std::string config, rawlog, map, method, out, pose, pose_tum;
+    std::vector<std::string> sets;
+    bool dump = false, quiet = false;
+};
+
+void defineCommandLine(CLI::App& cli, LocalizeArgs& a) {
+    cli.description(
+        "Localizes every LiDAR scan of the rawlog in the prior map and writes DIR/trajectory.tum,\n"
+        "DIR/frames.csv, DIR/summary.json, DIR/localized_map.pcd, DIR/observability_scan.ply.\n"
+        "Flags override the INI keys of [run] and [localization] method.");
+    cli.add_option("CONFIG.ini", a.config, "the configuration (e.g. ini/localize.ini)")->required();
+    cli.add_option("--rawlog", a.rawlog, "input rawlog ([run] rawlog)");
+    cli.add_option("--map", a.map, "prior map .pcd/.ply/.bin/.txt/.pointsmap ([run] map)");
+    cli.add_option("--method", a.method,
+                   "icp, ndt, superloc (odom_alt prior weighted by the alignment risk), passive\n"
+                   "(odom_alt prior, fixed weight), eigen_remap (Zhang et al. 2016)");
+    cli.add_option("--out", a.out, "output folder ([run] out)");
+    cli.add_option("--initial-pose", a.pose,
+                   "\"x y z qx qy qz qw\" of the LiDAR in the map, or auto (global localization)");
+    cli.add_option("--initial-pose-tum", a.pose_tum, "TUM file: its pose at the first scan's time")
+        ->excludes("--initial-pose");
+    app::addSetOption(cli, a.sets);
+    cli.add_flag("--dump-config", a.dump, "print the effective configuration (every section) and exit");
+    cli.add_flag("--quiet", a.quiet, "errors only");
+}
+
+}  // namespace
+
+std::string LocalizeApp::usage() {
+    CLI::App cli("", "superloc-localize");
+    LocalizeArgs a;
+    defineCommandLine(cli, a);
+    return helpText(cli);
+}
+
+LocalizeApp::Action LocalizeApp::initialize(int argc, const char* const* argv) {
+    return initialize(argList(argc, argv));
+}
+
+LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args) {
+    CLI::App cli("", "superloc-localize");
+    LocalizeArgs a;
+    defineCommandLine(cli, a);
+    if (!parseCommandLine(cli, args)) return Action::Help;
+    config_path_ = a.config;
+    quiet_ = a.quiet;
+    const std::string &rawlog = a.rawlog, &map = a.map, &method = a.method, &out = a.out, &pose = a.pose,
+                      &pose_tum = a.pose_tum;
+    const std::vector<std::string>& sets = a.sets;
+    const bool dump = a.dump;
+    std::ifstream f(config_path_);
+    if (!f) throw ConfigError(config_path_ + ": cannot read the configuration file");
+    std::stringstream text;
+    text << f.rdbuf();
+    setIniContent(cfg_, text.str(), config_path_);
+    for (const auto& s : sets) applyOverride(cfg_, s);
+    if (!method.empty()) cfg_.write("localization", "method", method);
+    if (quiet_) setMinLoggingLevel(mrpt::system::LVL_ERROR);
+
+    const std::string src = config_path_ + (sets.empty() ? "" : " (+ --set)");
+    run_ = loadParams<RunParams>(cfg_, "run", src);
+    // INI paths are relative to the INI's folder; flags to the working directory.
+    const fs::path ini_dir = fs::path(config_path_).parent_path();
+    const auto rel = [&](std::string& p, const char* key) {
+        const bool from_ini = !stripIniValue(cfg_.read_string("run", key, "")).empty();
+        if (from_ini && !p.empty() && fs::path(p).is_relative())
+            p = (ini_dir / p).lexically_normal().string();
+    };
+    rel(run_.rawlog, "rawlog");
+    rel(run_.map, "map");
+    rel(run_.out, "out");
+    rel(run_.initial_pose_tum, "initial_pose_tum");
+    if (!rawlog.empty()) run_.rawlog = rawlog;
+    if (!map.empty()) run_.map = map;
+    if (!out.empty()) run_.out = out;
+    if (!pose.empty()) run_.initial_pose = pose, run_.initial_pose_tum.clear();
+    if (!pose_tum.empty()) run_.initial_pose_tum = pose_tum, run_.initial_pose.clear();
+    run_.validate();
+    loc_ = localization::LocalizerParams::load(cfg_, src);
+    rawlog_ = loadParams<io::RawlogParams>(cfg_, "rawlog", src);
+    map_ = loadParams<map::MapParams>(cfg_, "map", src);
+    if (dump) return Action::DumpConfig;
+    if (run_.rawlog.empty()) throw ConfigError("no rawlog: give --rawlog F or [run] rawlog");
+    if (run_.map.empty()) throw ConfigError("no map: give --map F or [run] map");
+    if (!fs::exists(run_.rawlog)) throw ConfigError(run_.rawlog + ": rawlog not found");
+    if (!fs::exists(run_.map)) throw ConfigError(run_.map + ": map file not found");
+    return Action::Run;
+}
+
+std::string LocalizeApp::dumpConfig() const {
+    mrpt::config::CConfigFileMemory c;
+    run_.saveToConfigFile(c, "run");
+    loc_.save(c);
+    rawlog_.saveToConfigFile(c, "rawlog");
+    map_.saveToConfigFile(c, "map");
+    return c.getContent();
+}
+
+int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>& on_frame) {
+    // Initial pose (T_map_lidar).
+    std::optional<SE3d> T0;
+    Trajectory T0_tum;  // --initial-pose-tum: interpolated at the first scan's time
+    const bool auto_pose = run_.initial_pose == "auto";
+    if (!run_.initial_pose.empty() && !auto_pose) T0 = parsePoseString(run_.initial_pose, "--initial-pose");
+    if (!run_.initial_pose_tum.empty()) {
+        T0_tum = io::loadTum(run_.initial_pose_tum);
+        if (T0_tum.empty()) throw ConfigError(run_.initial_pose_tum + ": no pose in the TUM file");
+    }
+    if (!T0 && T0_tum.empty() && !auto_pose)
+        MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin (--initial-pose auto searches "
+                      "the whole map)");
+
+    const auto t_map = std::chrono::steady_clock::now();
+    auto prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
+    MRPT_LOG_INFO_FMT("map %s: %zu points, prepared in %.2f s", run_.map.c_str(), prior->size(),
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count());
+    if (prior->size() == 0) throw ConfigError(run_.map + ": the map has no points");
+    localization::Localizer loc(loc_, prior);
+    loc.setMinLoggingLevel(getMinLoggingLevel());
+    if (loc.globalSearch())
+        MRPT_LOG_INFO_FMT("global search grids: %.2f s, %.1f MB", loc.globalSearch()->buildSeconds(),
+                          static_cast<double>(loc.globalSearch()->memoryBytes()) / 1e6);
+    if (auto_pose) {
+        if (!loc.globalSearch())
+            throw ConfigError("--initial-pose auto needs [relocalization] enabled = true");
+        loc.relocalize();
+    }
+    // An initial pose must lie where the map can be seen from: within the map's bounds grown by
+    // the sensor's range. Else a one-line error, or the global search ([relocalization] out_of_map).
+    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+    for (const auto& p : prior->points()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    const auto checkInitial = [&](const SE3d& T, const std::string& what) {
+        const Vec3d t = T.translation();
+        const double range = loc_.features.max_range;
+        const Vec3d l = lo.cast<double>() - Vec3d::Constant(range), h = hi.cast<double>() + Vec3d::Constant(range);
+        const bool finite = t.allFinite() && T.linear().allFinite();
+        if (finite && (t.array() >= l.array()).all() && (t.array() <= h.array()).all()) return true;
+        char buf[512];
+        std::snprintf(buf, sizeof buf,
+                      "%s: position (%.6g, %.6g, %.6g) is outside the prior map %s (bounds [%.1f, %.1f] x [%.1f, %.1f] x "
+                      "[%.1f, %.1f] m grown by features.max_range = %.0f m)",
+                      what.c_str(), t.x(), t.y(), t.z(), run_.map.c_str(), lo.x(), hi.x(), lo.y(), hi.y(), lo.z(),
+                      hi.z(), range);
+        if (loc_.relocalization.out_of_map == "global" && loc.globalSearch()) {
+            MRPT_LOG_WARN_FMT("%s: localizing the first scan by the global search instead", buf);
+            loc.relocalize();
+            return false;
+        }
+        throw ConfigError(std::string(buf) + " (or set relocalization.out_of_map=global)");
+    };
+    if (T0 && checkInitial(*T0, "--initial-pose")) loc.setInitialPose(*T0);
+    io::RawlogReader reader(run_.rawlog, rawlog_);
+    reader.logger().setMinLoggingLevel(getMinLoggingLevel());  // --quiet: errors only
+    RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0);
+    const bool body = loc_.loc.output_frame == "body";
+    // Observability scan (issue 5): correspondence points coloured by translation label.
+    ObservabilityScan obs_scan(std::max(0.05, run_.localized_map_voxel));
+    const std::string obs_path = (fs::path(run_.out) / "observability_scan.ply").string();
+    std::vector<Vec3f> obs_pts;
+    std::vector<int8_t> obs_labels;
+
+    summary_ = RunSummary{};
+    summary_.method = loc_.loc.method;
+    summary_.map_points = prior->size();
+    summary_.map_prepare_s = prior->prepareSeconds();
+    std::vector<double> ms, cpu, st[5];
+    Trajectory est, gt;
+    io::RawlogItem item;
+    static const std::vector<Vec3f> kNone;
+    bool in_divergence = false;
+    // The statistics of the frames processed so far, and summary.json, localized_map.pcd and
+    // observability_scan.ply from them: at the end of the rawlog, and also when the run stops on
+    // an error (doc/localizer.md "Faults"), so that every output says what was done.
+    const auto finish = [&](const std::string& error) {
+        summary_.rawlog = reader.stats();
+        summary_.status = error.empty() ? "ok" : "failed";
+        summary_.error = error;
+        const eval::TimingStats wall = eval::timingStats(ms);
+        summary_.ms_median = wall.median_ms;
+        summary_.ms_p95 = wall.p95_ms;
+        summary_.ms_mean = wall.mean_ms;
+        summary_.fps = wall.fps;
+        summary_.cpu_ms_median = eval::median(cpu);
+        summary_.stage_median = {eval::median(st[0]), eval::median(st[1]), eval::median(st[2]),
+                                 eval::median(st[3]), eval::median(st[4]), summary_.ms_median};
+        // ATE against the rawlog's own ground truth, when it has one (same frame as the output,
+        // no alignment): GT interpolated at each estimate's time (gaps up to 1 s), then eval's ATE.
+        Trajectory gt_at;
+        for (const auto& e : est)
+            if (const auto g = interpolateAt(gt, e.t, 1.0, 1e-3)) gt_at.push_back({e.t, *g, {}});
+        if (!gt_at.empty()) {
+            const eval::Association pairs = eval::associate(est, gt_at, 1e-6);
+            const eval::AteResult ate = eval::computeAte(est, gt_at, pairs, false);
+            summary_.gt_matched = ate.trans.n;
+            if (ate.trans.n) summary_.ate_rmse = ate.trans.rmse, summary_.ate_max = ate.trans.max;
+        }
+        out.finish(summary_);
+        obs_scan.write(obs_path);
+    };
+    try {
+        while (reader.next(item)) {
+            switch (item.kind) {
+                case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
+                case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
+                case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
+                case io::RawlogItem::Kind::Lidar: {
+                    if (!T0_tum.empty() && summary_.frames == 0) {
+                        // The pose at the first scan read (e.g. the first odd scan of an even/odd
+                        // split); the file's first pose when the file does not cover that time.
+                        const auto at = interpolateAt(T0_tum, item.scan().t, 1.0, 0.05);
+                        if (!at)
+                            MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
+                                              "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
+                        const SE3d T_first = at ? *at : T0_tum.front().pose;
+                        if (checkInitial(T_first, run_.initial_pose_tum)) loc.setInitialPose(T_first);
+                    }
+                    const localization::FrameReport r = loc.process(item.scan());
+                    const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
+                    out.addFrame(r, T, run_.save_localized_map
+                                           ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
+                                           : kNone);
+                    est.push_back({r.t, T, {}});
+                    loc.observabilityPoints(obs_pts, obs_labels);
+                    obs_scan.add(obs_pts, obs_labels);
+                    if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
+                    ms.push_back(r.ms.total);
+                    cpu.push_back(r.ms.total_cpu);
+                    st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);
+                    st[2].push_back(r.ms.associate), st[3].push_back(r.ms.risk), st[4].push_back(r.ms.solve);
+                    summary_.frames++;
+                    summary_.diverged += r.diverged;
+                    summary_.converged += r.converged;
+                    summary_.used_imu += r.used_imu;
+                    summary_.with_prior += r.prior_used;
+                    summary_.recovered += r.recovered;
+                    summary_.health[static_cast<size_t>(r.health)]++;
+                    const bool flagged = !r.degenerate_axes.empty();
+                    summary_.flagged += flagged;
+                    summary_.flagged_without_prior += flagged && !r.prior_used;
+                    for (int k = 0; k < 6; ++k) summary_.flagged_axis[k] += r.degenerate[k];
+                    // Log divergence when it starts and ends, not on every frame of a long episode.
+                    if (r.diverged != in_divergence)
+                        MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
+                                          r.diverged ? "diverged" : "tracking again",
+                                          r.diverged_reason.c_str(), r.inlier_ratio);
+                    in_divergence = r.diverged;
+                    if (on_frame) on_frame(r);
+                    break;
+                }
+            }
+        }
+        if (summary_.frames == 0) throw std::runtime_error(run_.rawlog + ": no LiDAR scan in the rawlog");
+    } catch (const std::exception& e) {
+        // Stopped on a fault the run cannot get past (a corrupt entry, time going backwards beyond
+        // the reorder window, no scan at all): the frames so far are in trajectory.tum and
+        // frames.csv already; summary.json says "failed" and why, then the error goes on to the
+        // caller (one line on stderr, exit code 1).
+        try {
+            finish(oneLineError(e));
+        } catch (const std::exception& e2) {
+            MRPT_LOG_ERROR_FMT("could not write the outputs after the error: %s", oneLineError(e2).c_str());
+        }
+        throw;
+    }
+    if (summary_.health[2] == summary_.frames) {
+        const std::string error = "all " + std::to_string(summary_.frames) + " frames of " + run_.rawlog +
+                                  " are lost: no pose of the scans in " + run_.map +
+                                  " was found (frames.csv health_reason says why per frame)";
+        finish(error);
+        throw std::runtime_error(error);
+    }
+    finish("");
+    MRPT_LOG_INFO_FMT("%zu frames (%zu ok, %zu degraded, %zu lost), median %.2f ms, p95 %.2f ms per frame -> %s",
+                      summary_.frames, summary_.health[0], summary_.health[1], summary_.health[2], summary_.ms_median,
+                      summary_.ms_p95, run_.out.c_str());
+    const auto& fa = summary_.flagged_axis;
+    MRPT_LOG_INFO_FMT(
+        "alignment risk: %zu frames flag a degenerate axis (x %zu, y %zu, z %zu, roll %zu, pitch %zu, "
+        "yaw %zu); odom_alt prior in %zu frames; %zu flagged frames had no prior",
+        summary_.flagged, fa[0], fa[1], fa[2], fa[3], fa[4], fa[5], summary_.with_prior,
+        summary_.flagged_without_prior);
+    return 0;
+}
+
+}  // namespace superloc::app

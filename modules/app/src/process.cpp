@@ -1,0 +1,102 @@
+#include <fcntl.h>
+#include <signal.h>
+#include <superloc/app/process.h>
+#include <sys/resource.h>
+#include <sys/time.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+#include <thread>
+
+namespace superloc::app {
+namespace fs = std::filesystem;
+namespace {
+volatile sig_atomic_t g_child = 0;  ///< pid of the running child, 0 when none
+
+void onTermination(int sig) {
+    if (g_child > 0) ::kill(static_cast<pid_t>(g_child), SIGKILL);
+    ::_exit(128 + sig);
+}
+}  // namespace
+
+void killChildOnTermination() {
+    struct sigaction sa {};
+    sa.sa_handler = onTermination;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGINT, &sa, nullptr);
+    ::sigaction(SIGTERM, &sa, nullptr);
+}
+
+ProcessResult runProcess(const std::vector<std::string>& argv, const std::string& log_path,
+                         double timeout_s) {
+    ProcessResult r;
+    if (argv.empty()) return r;
+    std::vector<char*> cargs;
+    for (const auto& a : argv) cargs.push_back(const_cast<char*>(a.c_str()));
+    cargs.push_back(nullptr);
+    const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    if (log_fd < 0) return r;
+    const auto t0 = std::chrono::steady_clock::now();
+    const pid_t pid = ::fork();
+    if (pid < 0) {
+        ::close(log_fd);
+        return r;
+    }
+    if (pid == 0) {  // child: output to the log, then exec
+        ::dup2(log_fd, STDOUT_FILENO);
+        ::dup2(log_fd, STDERR_FILENO);
+        const int devnull = ::open("/dev/null", O_RDONLY);
+        if (devnull >= 0) ::dup2(devnull, STDIN_FILENO);
+        ::execvp(cargs[0], cargs.data());
+        ::_exit(127);
+    }
+    ::close(log_fd);
+    g_child = pid;
+    int status = 0;
+    struct rusage ru {};
+    for (;;) {
+        const pid_t w = ::wait4(pid, &status, WNOHANG, &ru);
+        if (w == pid) break;
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (timeout_s > 0 && elapsed > timeout_s && !r.timed_out) {
+            ::kill(pid, SIGKILL);  // only our own child, by its pid
+            r.timed_out = true;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    g_child = 0;
+    r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    r.peak_rss_mb = double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+    if (WIFEXITED(status))
+        r.exit_code = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status))
+        r.exit_code = 128 + WTERMSIG(status);
+    r.started = r.exit_code != 127;
+    return r;
+}
+
+std::string findTool(const std::string& name, const std::string& dir) {
+    std::vector<fs::path> candidates = {fs::path(dir) / name, fs::path(dir) / ".." / name / name};
+    if (const char* path = std::getenv("PATH")) {
+        std::istringstream ss(path);
+        for (std::string p; std::getline(ss, p, ':');)
+            if (!p.empty()) candidates.push_back(fs::path(p) / name);
+    }
+    for (const auto& c : candidates)
+        if (fs::is_regular_file(c) && ::access(c.c_str(), X_OK) == 0)
+            return fs::absolute(c).lexically_normal().string();
+    return "";
+}
+
+std::string selfDir() {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? std::string(".") : exe.parent_path().string();
+}
+
+}  // namespace superloc::app

@@ -1,0 +1,169 @@
+#include <superloc/io/json_file.h>
+#include <superloc/io/point_cloud_io.h>
+#include <superloc/io/tum.h>
+#include <superloc/app/run_outputs.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+namespace superloc::app {
+
+std::string framesCsvHeader() {
+    return "t,x,y,z,qx,qy,qz,qw,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,"
+           "degenerate,prior_used,ms_total,"
+           "index,inlier_ratio,residual_rms,points_raw,points_valid,candidates,features,"
+           "corr_plane,corr_line,corr_point,too_far,rounds,iterations,converged,diverged,"
+           "diverged_reason,used_imu,deskewed,"
+           "prior_w_x,prior_w_y,prior_w_z,prior_w_roll,prior_w_pitch,prior_w_yaw,vx,vy,vz,"
+           "ms_predict,ms_preprocess,ms_associate,ms_risk,ms_solve,ms_total_cpu,"
+           "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
+           "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered,"
+           "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg,"
+           "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg";
+}
+
+std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
+    const Eigen::Quaterniond q(T.linear());
+    const Vec3d p = T.translation();
+    char buf[1024];
+    int n = std::snprintf(buf, sizeof(buf), "%.9f,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f", r.t, p.x(), p.y(),
+                          p.z(), q.x(), q.y(), q.z(), q.w());
+    std::string s(buf, static_cast<size_t>(n));
+    const auto add = [&s, &buf](const char* fmt, auto v) {
+        const int k = std::snprintf(buf, sizeof(buf), fmt, v);
+        s += ',';
+        s.append(buf, static_cast<size_t>(k));
+    };
+    for (int k = 0; k < 6; ++k) add("%.4f", r.gamma[k]);
+    s += ',' + r.degenerate_axes;
+    add("%d", r.prior_used ? 1 : 0);
+    add("%.3f", r.ms.total);
+    add("%zu", r.index);
+    add("%.4f", r.inlier_ratio);
+    add("%.4f", r.residual_rms);
+    for (size_t v : {r.points_raw, r.points_valid, r.candidates, r.features, r.corr_plane, r.corr_line,
+                     r.corr_point, r.too_far})
+        add("%zu", v);
+    add("%d", r.rounds);
+    add("%d", r.iterations);
+    add("%d", r.converged ? 1 : 0);
+    add("%d", r.diverged ? 1 : 0);
+    s += ',' + r.diverged_reason;
+    add("%d", r.used_imu ? 1 : 0);
+    add("%d", r.deskewed ? 1 : 0);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.prior_weight[k]);
+    for (int k = 0; k < 3; ++k) add("%.4f", r.velocity[k]);
+    for (double v : {r.ms.predict, r.ms.preprocess, r.ms.associate, r.ms.risk, r.ms.solve, r.ms.total_cpu})
+        add("%.3f", v);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.hessian_eigenvalues[k]);
+    for (int k = 0; k < 3; ++k) add("%.5f", r.translation_eigenvalues[k]);
+    for (int k = 0; k < 3; ++k) add("%.5f", r.weakest_translation[k]);
+    add("%d", r.recovered ? 1 : 0);
+    s += ',';
+    s += localization::healthName(r.health);
+    s += ',' + r.health_reason;
+    add("%.4f", r.inlier_reference);
+    add("%.4f", r.pred_dxyz);
+    add("%.3f", r.pred_ddeg);
+    std::string detail = r.reloc.detail;  // free text: no commas in a CSV cell
+    std::replace(detail.begin(), detail.end(), ',', ';');
+    s += ',' + r.reloc.mode + ',' + r.reloc.trigger + ',' + localization::relocOutcomeName(r.reloc.outcome) + ',' + detail;
+    add("%d", r.reloc.hypotheses);
+    add("%d", r.reloc.verified);
+    add("%.2f", r.reloc.search_ms + r.reloc.verify_ms);
+    add("%.5f", r.last_step_xyz);
+    add("%.4f", r.last_step_deg);
+    return s;
+}
+
+RunOutputs::RunOutputs(const std::string& dir, double map_voxel)
+    : dir_(dir), voxel_(static_cast<float>(map_voxel)) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw std::runtime_error(dir + ": cannot create output folder (" + ec.message() + ")");
+    const std::string csv = (std::filesystem::path(dir) / "frames.csv").string();
+    csv_.open(csv);
+    if (!csv_) throw std::runtime_error(csv + ": cannot open for writing");
+    csv_ << framesCsvHeader() << '\n' << std::flush;
+    tum_ = std::make_unique<io::TumWriter>((std::filesystem::path(dir) / "trajectory.tum").string(),
+                                           "superloc-localize: t x y z qx qy qz qw");
+}
+
+RunOutputs::~RunOutputs() = default;
+
+void RunOutputs::addFrame(const localization::FrameReport& r, const SE3d& T, const std::vector<Vec3f>& map_points) {
+    tum_->write(r.t, T);
+    csv_ << framesCsvLine(r, T) << '\n' << std::flush;
+    for (const auto& p : map_points) {
+        if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_)).second) map_.push_back(p);
+    }
+}
+
+io::Json summaryJson(const RunSummary& s) {
+    const auto& m = s.stage_median;
+    const auto& fa = s.flagged_axis;
+    // -1 marks "no ground truth in the rawlog": null.
+    const auto orNull = [](double v) { return v < 0 ? io::Json(nullptr) : io::Json(v); };
+    const auto& rs = s.rawlog;
+    return {{"status", s.status},
+            {"error", s.error.empty() ? io::Json(nullptr) : io::Json(s.error)},
+            {"method", s.method},
+            {"frames", s.frames},
+            {"frames_diverged", s.diverged},
+            {"frames_converged", s.converged},
+            {"frames_with_imu", s.used_imu},
+            {"frames_with_prior", s.with_prior},
+            {"frames_recovered", s.recovered},
+            {"frames_health", {{"ok", s.health[0]}, {"degraded", s.health[1]}, {"lost", s.health[2]}}},
+            {"frames_flagged", s.flagged},
+            {"frames_flagged_without_prior", s.flagged_without_prior},
+            {"frames_flagged_per_axis",
+             {{"x", fa[0]},
+              {"y", fa[1]},
+              {"z", fa[2]},
+              {"roll", fa[3]},
+              {"pitch", fa[4]},
+              {"yaw", fa[5]}}},
+            {"ms_per_frame_median", s.ms_median},
+            {"ms_per_frame_p95", s.ms_p95},
+            {"ms_per_frame_mean", s.ms_mean},
+            {"cpu_ms_per_frame_median", s.cpu_ms_median},
+            {"fps", s.fps},
+            {"stage_ms_median",
+             {{"predict", m.predict},
+              {"preprocess", m.preprocess},
+              {"associate", m.associate},
+              {"risk", m.risk},
+              {"solve", m.solve},
+              {"total", m.total}}},
+            {"map_points", s.map_points},
+            {"map_prepare_s", s.map_prepare_s},
+            {"gt_frames_matched", s.gt_matched},
+            {"ate_rmse_vs_rawlog_gt", orNull(s.ate_rmse)},
+            {"ate_max_vs_rawlog_gt", orNull(s.ate_max)},
+            {"rawlog",
+             {{"scans_read", rs.lidar},
+              {"scans_empty_skipped", rs.empty_scans},
+              {"scans_unselected", rs.unselected_scans},
+              {"invalid_points_dropped", rs.invalid_points},
+              {"imu", rs.imu},
+              {"imu_invalid_skipped", rs.invalid_imu},
+              {"odom_alt", rs.odom_alt},
+              {"gt", rs.gt},
+              {"unknown_observations", rs.unknown_observations}}}};
+}
+
+void RunOutputs::finish(const RunSummary& s) {
+    // Non-finite values (e.g. the ATE of a run started 1e300 m away) are written as null, each
+    // with a warning.
+    io::saveJson((std::filesystem::path(dir_) / "summary.json").string(), summaryJson(s));
+    PointCloud cloud;
+    cloud.points = map_;
+    io::savePointCloud((std::filesystem::path(dir_) / "localized_map.pcd").string(), cloud);
+}
+
+}  // namespace superloc::app

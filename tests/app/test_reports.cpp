@@ -1,0 +1,139 @@
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <superloc/core/se3.h>
+#include <superloc/eval/frame_log.h>
+#include <superloc/eval/evaluation.h>
+#include <superloc/io/json_file.h>
+#include <superloc/app/report_plots.h>
+#include <superloc/app/svg_plot.h>
+#include <superloc_testing/testing.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+using namespace superloc;
+using namespace superloc::eval;
+using namespace superloc::app;
+
+TEST(EvalJson, EveryMetricParsesBackNonFiniteAsNull) {
+    EvalResult r;
+    r.est_frames = r.gt_frames = r.matched_frames = 3;
+    r.ate.trans.n = 3;
+    r.ate.trans.rmse = 0.25;
+    r.ate.rot.rmse = std::numeric_limits<double>::infinity();  // e.g. a 1e300 m estimate
+    r.rp.area = 0.5;
+    r.rp.curve.resize(2);
+    r.rp.curve[0].tau = 0.1;
+    r.rp.curve[0].f1 = 0.2;
+    r.rp.curve[1].tau = 0.5;
+    r.rp.curve[1].f1 = 0.9;
+    r.timing = TimingStats{};
+    r.timing->median_ms = 12.5;
+    r.degenerate_frame_percent = std::nan("");
+    const auto j = nlohmann::json::parse(io::toJsonText(toJson(r), "test"));
+    EXPECT_EQ(j["matched_frames"].get<int>(), 3);
+    EXPECT_NEAR(j["ate"]["trans_m"]["rmse"].get<double>(), 0.25, 1e-12);
+    EXPECT_TRUE(j["ate"]["rot_rad"]["rmse"].is_null());
+    EXPECT_NEAR(j["Rp"].get<double>(), 0.5, 1e-12);
+    ASSERT_EQ(j["f1_trans"]["tau"].size(), 2u);
+    EXPECT_NEAR(j["f1_trans"]["f1"][1].get<double>(), 0.9, 1e-12);
+    EXPECT_NEAR(j["timing"]["median_ms"].get<double>(), 12.5, 1e-12);
+    EXPECT_TRUE(j["degenerate_frame_percent"].is_null());
+    EXPECT_FALSE(j.contains("map"));
+    EXPECT_FALSE(nlohmann::json::parse(io::toJsonText(toJson(r, false))).contains("f1_trans"));
+}
+
+TEST(FrameLog, ParsesDegenerateLetters) {
+    const auto f = parseDegenerateAxes("xyaw");
+    EXPECT_EQ(f, (std::array<bool, 6>{true, false, false, false, false, true}));
+    EXPECT_EQ(parseDegenerateAxes("rollpitchz"),
+              (std::array<bool, 6>{false, false, true, true, true, false}));
+    EXPECT_EQ(parseDegenerateAxes(""), (std::array<bool, 6>{}));
+    EXPECT_THROW(parseDegenerateAxes("xq"), std::invalid_argument);
+}
+
+TEST(FrameLog, ReadsTheLocalizerCsv) {
+    const std::string dir = superloc::testing::freshDir("eval_frame_log");
+    const std::string path = dir + "/frames.csv";
+    {
+        std::ofstream f(path);
+        f << "t,x,y,z,qx,qy,qz,qw,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,"
+             "degenerate,prior_used,ms_total,ms_solve\n"
+          << "1.0,0,0,0,0,0,0,1,0.1,1,1,0.9,0.8,0.05,xyaw,1,12.5,7\n"
+          << "1.1,0,0,0,0,0,0,1,1,1,1,1,1,1,,0,10,5\n";
+    }
+    const FrameLog log = loadFrameLog(path);
+    ASSERT_EQ(log.frames.size(), 2u);
+    EXPECT_TRUE(log.has_gamma);
+    EXPECT_DOUBLE_EQ(log.frames[0].gamma[0], 0.1);
+    EXPECT_DOUBLE_EQ(log.frames[0].gamma[5], 0.05);
+    EXPECT_TRUE(log.frames[0].degenerate[0] && log.frames[0].degenerate[5]);
+    EXPECT_FALSE(log.frames[1].degenerate[0]);
+    EXPECT_EQ(log.stage_ms.at("ms_solve"), (std::vector<double>{7, 5}));
+    EXPECT_DOUBLE_EQ(log.frames[1].ms_total, 10.0);
+
+    // min translation gamma per pose, by time
+    Trajectory tr = {
+        {1.0, SE3d::Identity(), {}}, {1.1, SE3d::Identity(), {}}, {5.0, SE3d::Identity(), {}}};
+    const auto g = minTranslationGamma(tr, log, 0.02);
+    EXPECT_DOUBLE_EQ(g[0], 0.1);
+    EXPECT_DOUBLE_EQ(g[1], 1.0);
+    EXPECT_TRUE(std::isnan(g[2]));
+}
+
+TEST(FrameLog, ErrorsNameFileAndLine) {
+    const std::string dir = superloc::testing::freshDir("eval_frame_log_bad");
+    const std::string path = dir + "/frames.csv";
+    { std::ofstream(path) << "t,ms_total\n1.0,abc\n"; }
+    try {
+        loadFrameLog(path);
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path + ":2: column 'ms_total'"), std::string::npos)
+            << e.what();
+    }
+    { std::ofstream(path) << "time,ms\n"; }
+    EXPECT_THROW(loadFrameLog(path), std::runtime_error);
+    EXPECT_THROW(loadFrameLog(dir + "/missing.csv"), std::runtime_error);
+}
+
+TEST(Svg, PlotsAreCompleteDocuments) {
+    Trajectory gt, est;
+    for (int i = 0; i < 10; ++i) {
+        gt.push_back({0.1 * i, makePoseRPY(i, 0.1 * i * i, 0, 0, 0, 0), {}});
+        est.push_back({0.1 * i, makePoseRPY(i, 0.1 * i * i + 0.05, 0, 0, 0, 0), {}});
+    }
+    const std::string top = trajectoryTopViewSvg(gt, est, std::vector<double>(10, 0.5), "a<b");
+    EXPECT_EQ(top.rfind("<?xml", 0), 0u);
+    EXPECT_NE(top.find("</svg>"), std::string::npos);
+    EXPECT_NE(top.find("a&lt;b"), std::string::npos);
+    EXPECT_NE(top.find(gammaColor(0.5)), std::string::npos);
+    FrameLog log;
+    for (int i = 0; i < 10; ++i) {
+        FrameRecord f;
+        f.t = 0.1 * i;
+        f.gamma.setConstant(1);
+        f.gamma[0] = i < 5 ? 0.1 : 1;
+        f.degenerate[0] = i < 5;
+        log.frames.push_back(f);
+    }
+    const std::string g = gammaTimelineSvg(log, 0.2, "gamma");
+    EXPECT_NE(g.find("fill=\"#d62728\""), std::string::npos);  // shaded degenerate span
+    RobustnessCurve c;
+    c.curve = {{1.0, 1, 1, 1}, {0.1, 1, 1, 0.5}};
+    EXPECT_NE(f1CurvesSvg({{"m", c}}, false, "F1").find("<polyline"), std::string::npos);
+    EXPECT_EQ(gammaColor(0), "hsl(0,85%,42%)");
+    EXPECT_EQ(gammaColor(1), "hsl(120,85%,42%)");
+}
+
+// A free-text column with a comma shifts the later columns: stage times of that row are
+// skipped, the leading columns still count.
+TEST(FrameLog, ShiftedRowsKeepLeadingColumns) {
+    const std::string dir = superloc::testing::freshDir("eval_frame_log_shift");
+    const std::string path = dir + "/frames.csv";
+    { std::ofstream(path) << "t,ms_total,reason,ms_solve\n1,10,fine,4\n2,12,a,b,5\n"; }
+    const FrameLog log = loadFrameLog(path);
+    EXPECT_EQ(log.stage_ms.at("ms_total"), (std::vector<double>{10, 12}));
+    EXPECT_EQ(log.stage_ms.at("ms_solve"), (std::vector<double>{4}));
+}
