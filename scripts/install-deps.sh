@@ -4,7 +4,7 @@ set -euo pipefail
 PKGS=(cmake ninja-build g++ pkg-config
       libmrpt-dev mrpt-apps libceres-dev libpcl-dev libeigen3-dev
       libgtest-dev libgmock-dev libbenchmark-dev libembree-dev libtbb-dev
-      nlohmann-json3-dev python3
+      nlohmann-json3-dev libcli11-dev python3
       # ROS 1 bags (superloc-import --rosbag): rosbag_storage and the message headers
       librosbag-storage-dev pluginlib-dev libsensor-msgs-dev libnav-msgs-dev
       libgeometry-msgs-dev libtf2-msgs-dev
