@@ -13,6 +13,11 @@ std::vector<std::string> argList(int argc, const char* const* argv) {
 }
 
 bool parseCommandLine(CLI::App& cli, const std::vector<std::string>& args) {
+    // A value option given twice keeps the last one (a wrapper script may append an override);
+    // --set collects every occurrence.
+    for (CLI::Option* o : cli.get_options())
+        if (o->get_multi_option_policy() == CLI::MultiOptionPolicy::Throw && o->get_name() != "--set")
+            o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 pops from the back
     try {
         cli.parse(reversed);

@@ -37,6 +37,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
     : mrpt::system::COutputLogger("Localizer"),
       params_(params),
       method_(methodFromString(params.loc.method)),
+      variant_(makeMethodVariant(method_, params.fusion)),
       health_(params.health),
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
@@ -48,7 +49,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
     assoc_.line_min_linearity = params.features.line_min_linearity;
     assoc_.max_fit_residual = params.loc.max_fit_residual;
     assoc_.point_weight = params.loc.point_weight;
-    if (method_ == Method::Ndt) {
+    if (variant_.registration == Registration::Ndt) {
         NdtParams np;
         np.resolution = params.loc.ndt_resolution;
         np.step_size = params.loc.ndt_step_size;
@@ -141,7 +142,7 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
 
     // NDT registers every voxel candidate, as hdl_localization feeds it a voxelized scan.
-    if (method_ == Method::Ndt) features::deskewPoints(scan.points, scan.rel_time, candidates_, motion, ndt_source_);
+    if (variant_.registration == Registration::Ndt) features::deskewPoints(scan.points, scan.rel_time, candidates_, motion, ndt_source_);
     last_motion_ = motion;
 }
 
@@ -198,7 +199,8 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
                                                          params_.risk);
             rep.setRisk(risk);
-            prior = from_hypothesis ? std::nullopt : activePrior(risk);
+            if (!from_hypothesis)
+                prior = variant_.fusion->prior(fusionFrame(T_before, prev_saved.T_map_imu()), risk);
             rep.ms.risk += msSince(t0);
         }
         if (corr_.size() < kMinCorrespondences && !pre) {
@@ -236,7 +238,12 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             rep.diverged_reason = "solver";
             break;
         }
-        if (method_ == Method::EigenRemap && !from_hypothesis) remapUpdate(prev_saved, T_before, scan, rep);
+        if (!from_hypothesis) {  // the method's odom_alt fusion may amend the round's solution
+            const SE3d T_solved = cur_.T_map_imu();
+            const SE3d T_kept = variant_.fusion->afterRound(fusionFrame(T_before, prev_saved.T_map_imu()), T_before,
+                                                            scan, T_solved, rep);
+            if (T_kept.matrix() != T_solved.matrix()) cur_.setPose(T_kept);
+        }
         const SE3d T_after = cur_.T_map_imu();
         rep.last_step_xyz = translationDistance(T_before, T_after);
         rep.last_step_deg = rotationAngle(T_before, T_after) / kDeg;
@@ -321,7 +328,7 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked,
     const SE3d T = cur_.T_map_imu();
     // Quality at the estimate from the last association (re-querying the map here would cost
     // a whole association round; NDT has none, so it associates once).
-    if (method_ == Method::Ndt || rejected) {
+    if (variant_.registration == Registration::Ndt || rejected) {
         const auto t0 = Clock::now();
         associate(pts_body_, T, *map_, assoc_, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
@@ -424,7 +431,7 @@ FrameReport Localizer::process(const Scan& scan) {
     const bool velocity_unknown =
         first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
     restart_ = false;
-    rep.coarse_start = velocity_unknown && method_ != Method::Ndt;
+    rep.coarse_start = velocity_unknown && variant_.registration != Registration::Ndt;
     const bool requested = reloc_pending_;
     if (requested) {
         // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
@@ -434,7 +441,7 @@ FrameReport Localizer::process(const Scan& scan) {
         if (runRelocalization(scan, pred, reloc_region_ ? &*reloc_region_ : nullptr, rep) == RelocOutcome::Accepted)
             reloc_pending_ = false, doubt_ = false;
     } else {
-        if (method_ == Method::Ndt) {
+        if (variant_.registration == Registration::Ndt) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
         } else {
             solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);

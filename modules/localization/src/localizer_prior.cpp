@@ -1,6 +1,6 @@
-// The Localizer's link to the alignment risk and the relative-pose prior (DESIGN §5): the risk
-// inputs from the correspondences, odom_alt's relative motion, and the prior hook that the
-// active-fusion methods (issue 5) fill in.
+// The Localizer's link to odom_alt (DESIGN §5): its relative motion and covariance over a frame,
+// what the method's fusion policy (method_variant.h) sees of the frame, and the observability
+// labels of the last frame's correspondences.
 #include <superloc/core/se3.h>
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/localizer.h>
@@ -52,34 +52,35 @@ std::optional<SE3d> Localizer::odomAltForFrame() const {
     return d;
 }
 
-std::optional<fusion::RelativePosePrior> Localizer::activePrior(
-    const risk::RiskReport& risk) const {
-    // icp and ndt use no prior; eigen_remap uses odom_alt in remapUpdate() instead of a factor.
-    if (method_ != Method::SuperLoc && method_ != Method::Passive) return std::nullopt;
-    if (!have_prev_) return std::nullopt;  // first frame: no previous state
-    const auto delta = odomAltForFrame();
-    if (!delta) return std::nullopt;
-    const auto& ap = params_.fusion.active;
-    Vec6d W;
-    if (method_ == Method::Passive) {
-        W = fusion::passiveInformation(ap);
-    } else {
-        // DESIGN §5 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
-        // information per axis of the group, at the predicted pose (doc/method.md §2).
-        const Mat6d H = fusion::scanInformation(corr_, cur_.T_map_imu(), params_.fusion.scan_sigma);
-        Vec6d s = ap.prior_scale * fusion::priorScale(H);
-        // Never more than odom_alt itself claims over this frame (when it reports a covariance).
-        if (ap.prior_cap_by_odom_cov) {
-            const auto c0 = odomAltCovAt(prev_.t), c1 = odomAltCovAt(cur_.t);
-            if (c0 && c1) s = fusion::capScale(s, fusion::odomIncrementSigma(*c0, *c1, ap));
+FusionFrame Localizer::fusionFrame(const SE3d& T_map_imu, const SE3d& T_prev_map_imu) const {
+    FusionFrame f;
+    f.corr = &corr_;
+    f.T_map_imu = T_map_imu;
+    f.T_prev_map_imu = T_prev_map_imu;
+    if (have_prev_ && variant_.fusion->usesOdomAlt()) {  // first frame: no previous state
+        f.odom_delta = odomAltForFrame();
+        if (f.odom_delta && params_.fusion.active.prior_cap_by_odom_cov) {
+            f.odom_cov_prev = odomAltCovAt(prev_.t);
+            f.odom_cov_cur = odomAltCovAt(cur_.t);
         }
-        W = fusion::activeInformation(risk.gamma, s);
-        if (!(W.maxCoeff() > 0)) return std::nullopt;  // well constrained everywhere
     }
-    fusion::RelativePosePrior p;
-    p.delta = *delta;
-    p.sqrt_info = fusion::sqrtInfo(W);
-    return p;
+    return f;
+}
+
+void Localizer::observabilityPoints(std::vector<Vec3f>& points, std::vector<int8_t>& labels) const {
+    points.clear();
+    labels.clear();
+    if (corr_.empty()) return;
+    const SE3d T = cur_.T_map_imu();
+    risk::RiskParams rp = params_.risk;
+    rp.hessian_eigen = false;
+    const auto risk = risk::computeAlignmentRisk(corr_, T, T_imu_lidar_.translation(), rp);
+    points.reserve(corr_.size());
+    labels.reserve(corr_.size());
+    for (size_t i = 0; i < corr_.size(); ++i) {
+        points.push_back((T * corr_[i].p).cast<float>());
+        labels.push_back(risk.translation_label[i]);
+    }
 }
 
 }  // namespace superloc::localization

@@ -18,7 +18,7 @@ std::vector<std::string> argList(int argc, const char* const* argv);
 /// Parses `args` (without the program name) with `cli`. Returns false when -h/--help was given
 /// (print helpText(cli)). A bad command line (unknown option, missing value, a value of the wrong
 /// type, a missing required argument) throws ConfigError with CLI11's one-line reason and
-/// "(see --help)".
+/// "(see --help)". An option given twice keeps its last value; --set keeps them all.
 bool parseCommandLine(CLI::App& cli, const std::vector<std::string>& args);
 
 /// The --help text: usage line, options with their descriptions, description and footer.

@@ -20,6 +20,7 @@
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 #include <superloc/localization/localization_params.h>
+#include <superloc/localization/method_variant.h>
 #include <superloc/localization/relocalization.h>
 #include <superloc/map/prior_map.h>
 #include <superloc/reloc/global_search.h>
@@ -107,13 +108,10 @@ class Localizer : public mrpt::system::COutputLogger {
     /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
     /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
     std::optional<SE3d> odomAltDelta(double t0, double t1) const;
-    /// Issue 5 hook: the relative-pose prior for the current solve (none for icp / ndt).
-    std::optional<fusion::RelativePosePrior> activePrior(const risk::RiskReport& risk) const;
-    /// eigen_remap (Zhang et al. 2016), after each round's solve: projects the update onto the
-    /// scan Hessian's well-constrained eigen-directions; odom_alt (else the round's start pose)
-    /// supplies the rest (eigen_remap.cpp).
-    void remapUpdate(const fusion::FrameState& prev_saved, const SE3d& T_before,
-                     const fusion::ScanFactor& scan, FrameReport& rep);
+    /// What the method's odom_alt fusion policy sees of the current frame: its correspondences
+    /// associated at T_map_imu, the previous frame's pose T_prev_map_imu, odom_alt's motion
+    /// (looked up only when the policy reads it, and not on the first frame).
+    FusionFrame fusionFrame(const SE3d& T_map_imu, const SE3d& T_prev_map_imu) const;
     /// The odom_alt delta for the current frame, logging when odom_alt is absent or a gap
     /// starts / ends (once per episode, not per frame).
     std::optional<SE3d> odomAltForFrame() const;
@@ -139,6 +137,7 @@ class Localizer : public mrpt::system::COutputLogger {
 
     LocalizerParams params_;
     Method method_;
+    MethodVariant variant_;  ///< registration + odom_alt fusion policy of method_
     HealthMonitor health_;
     std::unique_ptr<reloc::GlobalSearch> search_;
     bool reloc_pending_ = false;                 ///< relocalize() was called: the next scan searches

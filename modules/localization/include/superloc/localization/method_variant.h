@@ -1,0 +1,110 @@
+// The method variants of DESIGN §6 as classes with one interface. A method is a registration
+// (the Localizer's Ceres point-to-plane/line/point loop, or PCL NDT) and an odom_alt fusion
+// policy; the fusion policies are one family, named family + variant as in mp2p_icp:
+//
+//   method       registration  fusion
+//   icp          Icp           OdomFusionNone
+//   ndt          Ndt           OdomFusionNone
+//   passive      Icp           OdomFusionPassive     relative-pose prior, fixed weight
+//   superloc     Icp           OdomFusionActive      relative-pose prior weighted by the risk
+//   eigen_remap  Icp           OdomFusionEigenRemap  Zhang et al. 2016 solution remapping
+//
+// The Localizer asks its policy for the prior of each solve (prior()) and lets it amend each
+// round's solution (afterRound()); it holds no `if (method == ...)` of its own beyond the
+// registration choice.
+#pragma once
+
+#include <superloc/core/correspondence.h>
+#include <superloc/core/types.h>
+#include <superloc/fusion/frame_problem.h>
+#include <superloc/fusion/fusion_params.h>
+#include <superloc/fusion/scan_factor.h>
+#include <superloc/localization/frame_report.h>
+#include <superloc/localization/localization_params.h>
+#include <superloc/risk/alignment_risk.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace superloc::localization {
+
+enum class Registration { Icp, Ndt };
+
+/// What a fusion policy sees of the frame being solved (body = IMU frame).
+struct FusionFrame {
+    const std::vector<Correspondence>* corr = nullptr;  ///< the round's correspondences
+    SE3d T_map_imu = SE3d::Identity();                  ///< the pose they were associated at
+    SE3d T_prev_map_imu = SE3d::Identity();             ///< previous frame's solved pose
+    std::optional<SE3d> odom_delta;                     ///< odom_alt body motion over the frame
+    std::optional<Mat6d> odom_cov_prev, odom_cov_cur;   ///< odom_alt's covariance at both ends
+};
+
+class OdomFusion {
+   public:
+    virtual ~OdomFusion() = default;
+    /// Whether the policy reads odom_alt (the Localizer then looks it up, and says once when it
+    /// is missing).
+    virtual bool usesOdomAlt() const { return false; }
+    /// The relative-pose prior of this frame's solve, from the risk at the predicted pose.
+    virtual std::optional<fusion::RelativePosePrior> prior(const FusionFrame&, const risk::RiskReport&) const {
+        return std::nullopt;
+    }
+    /// After a round's solve: the pose to keep (T_solved unless the policy amends it), reporting
+    /// in rep.prior_used / prior_weight what it fused. `T_round_start`: the round's start pose.
+    virtual SE3d afterRound(const FusionFrame&, const SE3d& /*T_round_start*/, const fusion::ScanFactor&,
+                            const SE3d& T_solved, FrameReport&) const {
+        return T_solved;
+    }
+};
+
+/// icp, ndt: the scan alone (and the IMU).
+class OdomFusionNone : public OdomFusion {};
+
+/// passive: the relative-pose prior with a fixed information (doc/method.md §2).
+class OdomFusionPassive : public OdomFusion {
+   public:
+    explicit OdomFusionPassive(const fusion::ActiveFusionParams& p) : p_(p) {}
+    bool usesOdomAlt() const override { return true; }
+    std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport&) const override;
+
+   private:
+    fusion::ActiveFusionParams p_;
+};
+
+/// superloc: the relative-pose prior on the axes the risk flags, W = diag(max(0, 1 - γ)) s
+/// (paper §III-C, DESIGN §5).
+class OdomFusionActive : public OdomFusion {
+   public:
+    OdomFusionActive(const fusion::ActiveFusionParams& p, double scan_sigma) : p_(p), scan_sigma_(scan_sigma) {}
+    bool usesOdomAlt() const override { return true; }
+    std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
+
+   private:
+    fusion::ActiveFusionParams p_;
+    double scan_sigma_;
+};
+
+/// eigen_remap (Zhang, Kaess, Singh, ICRA 2016): each round's update is kept along the scan
+/// Hessian's eigen-directions above `eigen_threshold`; along the others the pose comes from
+/// odom_alt (previous pose × odom_alt motion), else stays at the round's start pose.
+class OdomFusionEigenRemap : public OdomFusion {
+   public:
+    explicit OdomFusionEigenRemap(const fusion::ActiveFusionParams& p) : p_(p) {}
+    bool usesOdomAlt() const override { return true; }
+    SE3d afterRound(const FusionFrame& f, const SE3d& T_round_start, const fusion::ScanFactor& scan,
+                    const SE3d& T_solved, FrameReport& rep) const override;
+
+   private:
+    fusion::ActiveFusionParams p_;
+};
+
+struct MethodVariant {
+    Registration registration = Registration::Icp;
+    std::unique_ptr<OdomFusion> fusion;
+};
+
+/// The variant of a method (table above).
+MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params);
+
+}  // namespace superloc::localization

@@ -1,0 +1,72 @@
+// The odom_alt fusion policies of the method variants (method_variant.h, DESIGN §6).
+#include <superloc/core/se3.h>
+#include <superloc/fusion/prior_weight.h>
+#include <superloc/localization/method_variant.h>
+
+namespace superloc::localization {
+
+std::optional<fusion::RelativePosePrior> OdomFusionPassive::prior(const FusionFrame& f,
+                                                                  const risk::RiskReport&) const {
+    if (!f.odom_delta) return std::nullopt;
+    fusion::RelativePosePrior p;
+    p.delta = *f.odom_delta;
+    p.sqrt_info = fusion::sqrtInfo(fusion::passiveInformation(p_));
+    return p;
+}
+
+std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFrame& f,
+                                                                 const risk::RiskReport& risk) const {
+    if (!f.odom_delta || !f.corr) return std::nullopt;
+    // DESIGN §5 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
+    // information per axis of the group, at the predicted pose (doc/method.md §2).
+    const Mat6d H = fusion::scanInformation(*f.corr, f.T_map_imu, scan_sigma_);
+    Vec6d s = p_.prior_scale * fusion::priorScale(H);
+    // Never more than odom_alt itself claims over this frame (when it reports a covariance).
+    if (p_.prior_cap_by_odom_cov && f.odom_cov_prev && f.odom_cov_cur)
+        s = fusion::capScale(s, fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_));
+    const Vec6d W = fusion::activeInformation(risk.gamma, s);
+    if (!(W.maxCoeff() > 0)) return std::nullopt;  // well constrained everywhere
+    fusion::RelativePosePrior p;
+    p.delta = *f.odom_delta;
+    p.sqrt_info = fusion::sqrtInfo(W);
+    return p;
+}
+
+SE3d OdomFusionEigenRemap::afterRound(const FusionFrame& f, const SE3d& T_round_start,
+                                      const fusion::ScanFactor& scan, const SE3d& T_solved,
+                                      FrameReport& rep) const {
+    // H at the solution with the round's IRLS weights, normalised by the total weight and
+    // without sigma, so the threshold reads as information per correspondence.
+    double wsum = 0;
+    for (double w : scan.sqrtWeights()) wsum += w * w;
+    if (!(wsum > 0)) return T_solved;
+    const Mat6d H =
+        fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights()) / wsum;
+    const SE3d T_ref = f.odom_delta ? SE3d(f.T_prev_map_imu * *f.odom_delta) : T_round_start;
+    const auto r = fusion::eigenRemap(T_ref, T_solved, H, p_.eigen_threshold);
+    if (r.removed == 0) return T_solved;
+    // Reported as a prior when odom_alt supplied the removed directions; prior_w_* = the share
+    // of each axis in the removed subspace (diagonal of its projector, 0..1).
+    rep.prior_used = f.odom_delta.has_value();
+    rep.prior_weight = f.odom_delta ? r.prior_share : Vec6d::Zero();
+    return r.T;
+}
+
+MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params) {
+    MethodVariant v;
+    switch (m) {
+        case Method::Icp: v.fusion = std::make_unique<OdomFusionNone>(); break;
+        case Method::Ndt:
+            v.registration = Registration::Ndt;
+            v.fusion = std::make_unique<OdomFusionNone>();
+            break;
+        case Method::Passive: v.fusion = std::make_unique<OdomFusionPassive>(params.active); break;
+        case Method::SuperLoc:
+            v.fusion = std::make_unique<OdomFusionActive>(params.active, params.scan_sigma);
+            break;
+        case Method::EigenRemap: v.fusion = std::make_unique<OdomFusionEigenRemap>(params.active); break;
+    }
+    return v;
+}
+
+}  // namespace superloc::localization
