@@ -75,6 +75,30 @@ TEST(BagFuzzFindings, Ros1BagWithAHugeHeaderLengthIsRefusedBeforeRosbagStorage) 
                      "runs past the end");
 }
 
+// fuzz_ros1, first seed under ASan: TFMessage decoding iterated the transforms of a message it
+// had already freed. The input is kept in tests/fuzz/regressions/ and replayed here like the
+// fuzz target does it (list, then import with the odometry topics mapped): it imports or fails
+// with one line naming the file, and under ASan (scripts/test-sanitize.sh) any use after free
+// fails the test.
+TEST(BagFuzzFindings, Ros1TfMessageOfAFreedMessageIsNotRead) {
+#ifndef SUPERLOC_HAVE_ROS1
+    GTEST_SKIP() << "built without ROS 1 bag support";
+#else
+    const std::string bag = superloc::testing::sourcePath("tests/fuzz/regressions/ros1-tfmessage-freed-vector.bag");
+    const std::string out = superloc::testing::freshDir("bag_fuzz_ros1_tf") + "/out.rawlog";
+    const auto e = errorOf([&] {
+        io::RosbagParams p;
+        for (const auto& t : io::listRosbag(bag))
+            if (t.type.find("Odometry") != std::string::npos && p.odom_alt_topic == "none") p.odom_alt_topic = t.topic;
+        io::importRosbag(bag, p, out);
+    });
+    if (!e.empty()) {
+        EXPECT_EQ(e.rfind(bag + ": ", 0), 0u) << e;
+        EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    }
+#endif
+}
+
 // fuzz_db3: SQLite's error text quoted a malformed schema across lines; errors are one line.
 // Plus a sweep of random corruptions of a .db3 and of MCAP files (fixed seeds).
 TEST(BagFuzzFindings, CorruptedBagsLoadOrThrowOneLine) {
