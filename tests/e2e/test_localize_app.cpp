@@ -191,6 +191,26 @@ TEST_F(KittiFixture, CommandLineContract) {
     fails({"--map", dir + "/empty.xyz"}, "empty.xyz");
 }
 
+// rawlogs/: the bundled simulated office (10 sweeps, IMU, odom_alt; its prior map is surveyed
+// from the world, not built from these scans). Needs nothing from ../shared/data.
+TEST(BundledFixture, OfficeTinyFromItsGtStart) {
+    const std::string dir = superloc::testing::sourcePath("rawlogs");
+    const std::string out = superloc::testing::freshDir("bundled_office_tiny");
+    LocalizeApp app;
+    ASSERT_EQ(app.initialize(std::vector<std::string>{superloc::testing::sourcePath("ini/localize.ini"), "--rawlog",
+                                                      dir + "/office-tiny.rawlog", "--map",
+                                                      dir + "/office-tiny-map.pcd", "--initial-pose-tum",
+                                                      dir + "/office-tiny-gt.tum", "--out", out, "--quiet"}),
+              LocalizeApp::Action::Run);
+    EXPECT_EQ(app.run(), 0);
+    const RunSummary& s = app.summary();
+    EXPECT_EQ(s.frames, 10u);
+    EXPECT_EQ(s.gt_matched, 10u);
+    EXPECT_EQ(s.health[0], 10u) << "every frame ok";
+    EXPECT_LT(s.ate_rmse, 0.05) << "ATE RMSE [m] (measured 0.011)";
+    EXPECT_LT(s.ate_max, 0.08);
+}
+
 TEST_F(KittiFixture, ExecutableExitCodes) {
     const std::string exe = std::string(SUPERLOC_BINARY_DIR) + "/bin/superloc-localize";
     if (!fs::exists(exe)) GTEST_SKIP() << exe << " not built";
