@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 5 experiments (doc/results.md "Active fusion"): every method on the simulated worlds,
+# Active-fusion experiments (doc/results.md "Active fusion"): every method on the simulated worlds,
 # evaluated with superloc-eval (ATE, map outlier % at 10 cm with the localized map at 5 cm).
 #   scripts/active_fusion_experiments.sh BUILD_DIR SIM_DIR OUT_DIR [worlds] [methods] [-- --set ...]
 # Sequences are simulated once into SIM_DIR/<world> (300-600 MB each: keep them out of the repo).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Risk figures of issue 5 from a run's frames.csv and the sequence's gt_tum.txt:
+"""Active-fusion risk figures from a run's frames.csv and the sequence's gt_tum.txt:
   corridor: share of frames with gamma_x < 0.2 inside the corridor (GT 10 m < x < L - 10 m) and
             with gamma_x >= 0.2 in the structured parts (within 10 m of the closed start or of the
             facade, |y| < 2 m) and in the open area (x > L + 2 m); L = CORRIDOR_LENGTH (100)

@@ -224,7 +224,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     reader.logger().setMinLoggingLevel(getMinLoggingLevel());  // --quiet: errors only
     RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0);
     const bool body = loc_.loc.output_frame == "body";
-    // Observability scan (issue 5): correspondence points coloured by translation label.
+    // Observability scan: correspondence points coloured by translation label.
     ObservabilityScan obs_scan(std::max(0.05, run_.localized_map_voxel));
     const std::string obs_path = (fs::path(run_.out) / "observability_scan.ply").string();
     std::vector<Vec3f> obs_pts;

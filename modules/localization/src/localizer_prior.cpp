@@ -31,7 +31,7 @@ std::optional<Mat6d> Localizer::odomAltCovAt(double t) const {
 
 std::optional<SE3d> Localizer::odomAltForFrame() const {
     const auto d = odomAltDelta(prev_.t, cur_.t);
-    // Issue 5: say once when odom_alt is absent or a gap starts, and when it is back; the frame
+    // Say once when odom_alt is absent or a gap starts, and when it is back; the frame
     // goes on without the prior (its degenerate flags are still reported in frames.csv).
     if (!d && odom_alt_state_ >= 0) {
         if (odom_alt_.empty())

@@ -1,4 +1,4 @@
-// The benchmark suite's tables (paper Table I shape) and JSON (DESIGN §8, issue 6).
+// The benchmark suite's tables (paper Table I shape) and JSON (DESIGN §8).
 #pragma once
 
 #include <superloc/eval/evaluation.h>

@@ -1,4 +1,4 @@
-// A benchmark suite (DESIGN §8, issue 6): sequences x methods, read from a suite INI, and the
+// A benchmark suite (DESIGN §8): sequences x methods, read from a suite INI, and the
 // command lines of the apps that prepare and run each case (DESIGN §9 contract).
 //
 //   [suite]

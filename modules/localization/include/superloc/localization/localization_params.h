@@ -7,7 +7,7 @@
 
 namespace superloc::localization {
 
-/// DESIGN §6. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion (issue 5).
+/// DESIGN §6. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion.
 enum class Method { Icp, Ndt, SuperLoc, Passive, EigenRemap };
 Method methodFromString(const std::string& s);  ///< throws ConfigError listing the names
 const char* methodName(Method m);

@@ -3,7 +3,7 @@
 //   1. predict the pose at scan time (IMU preintegration, or constant velocity without IMU)
 //   2. deskew, filter, voxel-select and cap the features
 //   3. associate with the PriorMap at the predicted pose
-//   4. alignment risk of those correspondences (reported; the active prior is issue 5's)
+//   4. alignment risk of those correspondences (reported, and weighting the active prior)
 //   5. solve (Ceres: scan + IMU + prior factors), re-associate, repeat
 //   6. emit a FrameReport
 #pragma once
@@ -69,7 +69,7 @@ class Localizer : public mrpt::system::COutputLogger {
     const reloc::GlobalSearch* globalSearch() const { return search_.get(); }
     /// Samples must come in time order, before the scans they precede.
     void addImu(const ImuSample& s);
-    /// Second odometry (odom_alt) poses, kept for the relative-pose prior (issue 5).
+    /// Second odometry (odom_alt) poses, kept for the relative-pose prior.
     void addOdomAlt(const PoseStamped& p);
 
     /// Runs the pipeline on one scan; never throws for bad data (see FrameReport::diverged).

@@ -1,4 +1,4 @@
-// Global localization without an initial pose (issue 11; doc/relocalization.md): a
+// Global localization without an initial pose (doc/relocalization.md): a
 // gravity-aligned 4-DoF search (x, y, yaw; z from the map's ground height + the scan's own
 // height above its ground plane) by branch-and-bound over the max-pooled height-band grids of
 // BandGridPyramid, then a short point-to-plane refinement of each hypothesis in the map's
