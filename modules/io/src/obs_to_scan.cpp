@@ -39,10 +39,10 @@ void copyPointsMap(const mrpt::maps::CPointsMap& m, Scan& scan, size_t& invalid)
     }
 }
 
-/// A Velodyne observation without packets whose point_cloud was stored with per-point
-/// timestamps (RawlogWriter::writeTimedScan): taken as it is, times relative to the observation.
-void fromStoredCloud(const mrpt::obs::CObservationVelodyneScan& in, Scan& scan, size_t& invalid) {
-    const auto& pc = in.point_cloud;
+/// The valid points of a Velodyne point cloud, with their intensity (0..1) and, when the cloud
+/// has per-point timestamps, their time relative to t0 (the observation's time).
+void copyVelodyneCloud(const mrpt::obs::CObservationVelodyneScan::TPointCloud& pc, mrpt::Clock::time_point t0,
+                       Scan& scan, size_t& invalid) {
     const bool has_t = pc.timestamp.size() == pc.size();
     const bool has_i = pc.intensity.size() == pc.size();
     scan.points.reserve(pc.size());
@@ -56,36 +56,23 @@ void fromStoredCloud(const mrpt::obs::CObservationVelodyneScan& in, Scan& scan, 
         scan.points.emplace_back(pc.x[i], pc.y[i], pc.z[i]);
         scan.intensity.push_back(has_i ? pc.intensity[i] / 255.0f : 0.0f);
         if (has_t)
-            scan.rel_time.push_back(static_cast<float>(
-                std::chrono::duration<double>(pc.timestamp[i] - in.timestamp).count()));
+            scan.rel_time.push_back(static_cast<float>(std::chrono::duration<double>(pc.timestamp[i] - t0).count()));
     }
 }
 
+/// A Velodyne observation: its packets decoded to a cloud with per-point times, or (without
+/// packets) the point_cloud stored with per-point timestamps (RawlogWriter::writeTimedScan)
+/// taken as it is.
 void fromVelodyne(const mrpt::obs::CObservationVelodyneScan& in, Scan& scan, size_t& invalid) {
     if (in.scan_packets.empty() && in.point_cloud.size() > 0) {
-        fromStoredCloud(in, scan, invalid);
+        copyVelodyneCloud(in.point_cloud, in.timestamp, scan, invalid);
         return;
     }
     mrpt::obs::CObservationVelodyneScan obs(in);  // generatePointCloud() fills a member
     mrpt::obs::CObservationVelodyneScan::TGeneratePointCloudParameters gp;
     gp.generatePerPointTimestamp = true;
     obs.generatePointCloud(gp);
-    const auto& pc = obs.point_cloud;
-    const bool has_t = pc.timestamp.size() == pc.size();
-    scan.points.reserve(pc.size());
-    scan.intensity.reserve(pc.size());
-    if (has_t) scan.rel_time.reserve(pc.size());
-    for (size_t i = 0; i < pc.size(); ++i) {
-        if (!finite3(pc.x[i], pc.y[i], pc.z[i])) {
-            ++invalid;
-            continue;
-        }
-        scan.points.emplace_back(pc.x[i], pc.y[i], pc.z[i]);
-        scan.intensity.push_back(pc.intensity[i] / 255.0f);
-        if (has_t)
-            scan.rel_time.push_back(
-                static_cast<float>(mrpt::Clock::toDouble(pc.timestamp[i]) - scan.t));
-    }
+    copyVelodyneCloud(obs.point_cloud, in.timestamp, scan, invalid);
 }
 
 /// Vertical angle [rad] of row `row` for the models MRPT 2.5.8's fromVelodyne() writes (it
