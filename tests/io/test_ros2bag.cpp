@@ -9,6 +9,7 @@
 #include <superloc/io/rosbag.h>
 #include <superloc/io/tum.h>
 #include <superloc_testing/bag_writers.h>
+#include <superloc_testing/bag_content.h>
 #include <superloc_testing/testing.h>
 
 #include <chrono>
@@ -23,6 +24,9 @@
 namespace {
 
 using namespace superloc;
+using superloc::testing::bag::kT_base_imu;
+using superloc::testing::bag::kT_base_lidar;
+using superloc::testing::bag::symCov;
 using namespace superloc::io;
 namespace bw = superloc::testing::bag;
 
@@ -139,13 +143,6 @@ uint32_t azimuthTimeNs(float x, float y) {
     return uint32_t(std::min(frac, 1.0 - 1e-9) * 1e8);
 }
 
-double symCov(size_t i, int k) {
-    const size_t r = std::min(i / 6, i % 6), c = std::max(i / 6, i % 6);
-    return (r == c ? 0.1 : 0.001) * double(r * 6 + c + 1) + k;
-}
-
-const SE3d kT_base_lidar = makePoseRPY(0.3, 0.1, 1.2, 0.0, 0.02, 0.5);
-const SE3d kT_base_imu = makePoseRPY(-0.1, 0.0, 0.4, 0.0, 0.0, -0.3);
 const double kT0 = 1700000000.25;
 
 /// Round-trip fixture: 2 real KITTI scans with a per-point `t` (uint32 ns, relative to the
@@ -390,28 +387,17 @@ TEST(Ros2Bag, RoundTripEveryFieldThroughDb3AndMcap) {
                     break;
                 }
                 case RawlogItem::Kind::Imu: {
-                    const ImuSample& m = it.imu();
-                    EXPECT_NEAR(m.t, kT0 + 0.01 * imus, 1e-6);
-                    EXPECT_EQ(m.acc, Vec3d(0.1 * imus, -0.2, 9.81));
-                    EXPECT_EQ(m.gyro, Vec3d(0.01, -0.02 * imus, 0.5));
+                    superloc::testing::bag::expectImu(it.imu(), int(imus), kT0);
                     ++imus;
                     break;
                 }
                 case RawlogItem::Kind::OdomAlt: {
-                    const PoseStamped& o = it.pose();
-                    const SE3d want = makePoseRPY(odoms * 0.5, 0.1 * odoms, 0, 0, 0, 0.1 * odoms) *
-                                      kT_base_imu;  // T_odom_body, body = imu_link
-                    EXPECT_TRUE(o.pose.isApprox(want, 1e-9));
-                    ASSERT_TRUE(o.cov.has_value());
-                    for (int i = 0; i < 36; ++i)
-                        EXPECT_EQ((*o.cov)(i / 6, i % 6), symCov(size_t(i), int(odoms))) << i;
+                    superloc::testing::bag::expectOdomAlt(it.pose(), int(odoms));
                     ++odoms;
                     break;
                 }
                 case RawlogItem::Kind::GroundTruth: {
-                    const SE3d want =
-                        makePoseRPY(10 + gts * 0.5, 5, 1, 0.01, 0, 0.2 + 0.1 * gts) * kT_base_lidar;
-                    EXPECT_TRUE(it.pose().pose.isApprox(want, 1e-9));  // T_map_lidar
+                    superloc::testing::bag::expectGroundTruth(it.pose(), int(gts));  // T_map_lidar
                     ++gts;
                     break;
                 }

@@ -12,6 +12,7 @@
 #include <superloc/io/rawlog.h>
 #include <superloc/io/rosbag.h>
 #include <superloc/io/tum.h>
+#include <superloc_testing/bag_content.h>
 #include <superloc_testing/testing.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -22,6 +23,9 @@
 namespace {
 
 using namespace superloc;
+using superloc::testing::bag::kT_base_imu;
+using superloc::testing::bag::kT_base_lidar;
+using superloc::testing::bag::symCov;
 using namespace superloc::io;
 
 std::vector<RawlogItem> readAll(const std::string& path) {
@@ -101,15 +105,6 @@ sensor_msgs::PointCloud2 cloud(double stamp, size_t n, const std::string& frame,
     return pc;
 }
 
-/// Entry i (row-major) of a symmetric 6x6 covariance with distinct values (MRPT stores the
-/// upper triangle of a CPose3DPDFGaussian).
-double symCov(size_t i, int k) {
-    const size_t r = std::min(i / 6, i % 6), c = std::max(i / 6, i % 6);
-    return (r == c ? 0.1 : 0.001) * double(r * 6 + c + 1) + k;
-}
-
-const SE3d kT_base_lidar = makePoseRPY(0.3, 0.1, 1.2, 0.0, 0.02, 0.5);
-const SE3d kT_base_imu = makePoseRPY(-0.1, 0.0, 0.4, 0.0, 0.0, -0.3);
 
 /// Round-trip bag: tf_static base_link -> lidar, base_link -> imu_link; 3 timed scans; 20 IMU
 /// samples; odometry with covariance; PoseStamped ground truth (child base_link via INI).
@@ -259,28 +254,17 @@ TEST(Rosbag, RoundTripEveryField) {
                 break;
             }
             case RawlogItem::Kind::Imu: {
-                const ImuSample& m = it.imu();
-                EXPECT_NEAR(m.t, 100.0 + 0.01 * imus, 1e-6);
-                EXPECT_EQ(m.acc, Vec3d(0.1 * imus, -0.2, 9.81));
-                EXPECT_EQ(m.gyro, Vec3d(0.01, -0.02 * imus, 0.5));
+                superloc::testing::bag::expectImu(it.imu(), int(imus), 100.0);
                 ++imus;
                 break;
             }
             case RawlogItem::Kind::OdomAlt: {
-                const PoseStamped& o = it.pose();
-                const SE3d want = makePoseRPY(odoms * 0.5, 0.1 * odoms, 0, 0, 0, 0.1 * odoms) *
-                                  kT_base_imu;  // T_odom_body, body = imu_link
-                EXPECT_TRUE(o.pose.isApprox(want, 1e-9));
-                ASSERT_TRUE(o.cov.has_value());
-                for (int i = 0; i < 36; ++i)
-                    EXPECT_DOUBLE_EQ((*o.cov)(i / 6, i % 6), symCov(size_t(i), int(odoms))) << i;
+                superloc::testing::bag::expectOdomAlt(it.pose(), int(odoms));
                 ++odoms;
                 break;
             }
             case RawlogItem::Kind::GroundTruth: {
-                const SE3d want =
-                    makePoseRPY(10 + gts * 0.5, 5, 1, 0.01, 0, 0.2 + 0.1 * gts) * kT_base_lidar;
-                EXPECT_TRUE(it.pose().pose.isApprox(want, 1e-9));  // T_map_lidar
+                superloc::testing::bag::expectGroundTruth(it.pose(), int(gts));  // T_map_lidar
                 ++gts;
                 break;
             }
