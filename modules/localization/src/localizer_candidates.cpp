@@ -35,6 +35,7 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
     const auto& rp = params_.relocalization;
     ++candidates_age_;
     track_dropped_ = track_over_budget_ = 0;
+    track_left_out_ = false;
     // Best evidence first: under the time budget the weakest are the ones left out.
     std::sort(hypotheses_.begin(), hypotheses_.end(),
               [](const Candidate& a, const Candidate& b) { return a.evidence > b.evidence; });
@@ -222,19 +223,17 @@ RelocOutcome Localizer::decideCandidates(FrameReport& rep) {
     rr.evidence_ratio = worst_ratio;
     MRPT_LOG_DEBUG_FMT("best candidate at (%.2f %.2f), %zu frames, mean %.3f", best.rep.T_map_lidar.translation().x(),
                        best.rep.T_map_lidar.translation().y(), best.history.size(), mean(best));
+    // A hypothesis of this frame's search that found no place in the full set was not judged.
+    margin = margin && !track_left_out_;
     if (!(healthy && margin && best.frames >= rp.track_min_frames)) {
-        // Candidates ruled out are judged: dropped, their places free for the next search's.
-        size_t k = 0;
-        for (size_t i = 0; i < hypotheses_.size(); ++i)
-            if (!ruled[i]) {
-                if (k != i) hypotheses_[k] = std::move(hypotheses_[i]);
-                ++k;
-            }
-        hypotheses_.resize(k);
-        rr.candidates = static_cast<int>(k);
+        // Candidates ruled out stay tracked (the next searches find their places again: a
+        // judged place must not come back as a new, unjudged candidate), but yield their places
+        // in the set to new ones when it is full.
+        for (size_t i = 0; i < hypotheses_.size(); ++i) hypotheses_[i].ruled_out = ruled[i];
         rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = mrpt::format("candidates:%zu", hypotheses_.size()) + (healthy ? "" : "+unhealthy") +
-                    (margin ? "" : mrpt::format("+margin:%.3f", rr.evidence_ratio)) + budget;
+                    (margin ? "" : mrpt::format("+margin:%.3f", rr.evidence_ratio)) +
+                    (track_left_out_ ? "+full" : "") + budget;
         // Lost all the same, reporting the best candidate's pose.
         rep.T_map_lidar = best.rep.T_map_lidar;
         rep.T_map_imu = best.rep.T_map_imu;

@@ -192,15 +192,33 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         const bool tracking = !hypotheses_.empty();
         if (rp.track_candidates > 0 && (rep.health == Health::Lost || reloc_pending_)) {
             if (!tracking) candidates_age_ = 0;
+            double best_tracked = 0;
+            for (const Candidate& c : hypotheses_) best_tracked = std::max(best_tracked, c.rep.inlier_ratio);
             std::sort(standing.begin(), standing.end(),
                       [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
             for (const Outcome& o : standing) {
-                if (static_cast<int>(hypotheses_.size()) >= rp.track_candidates) break;
                 const bool same = std::any_of(hypotheses_.begin(), hypotheses_.end(), [&](const Candidate& c) {
                     return translationDistance(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_xyz &&
                            rotationAngle(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_deg * kDeg;
                 });
                 if (same) continue;
+                // While tracking: one that fits this scan clearly worse than the best tracked
+                // candidate (under track_ratio x its inlier ratio) is no alternative.
+                if (o.rep.inlier_ratio < rp.track_ratio * best_tracked) continue;
+                if (static_cast<int>(hypotheses_.size()) >= rp.track_candidates) {
+                    // Full: the worst candidate already ruled out yields its place, else this
+                    // hypothesis is left out (and the frame commits nothing).
+                    auto worst = hypotheses_.end();
+                    for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it)
+                        if (it->ruled_out && (worst == hypotheses_.end() || it->evidence / it->frames <
+                                                                                worst->evidence / worst->frames))
+                            worst = it;
+                    if (worst == hypotheses_.end()) {
+                        track_left_out_ = true;
+                        break;
+                    }
+                    hypotheses_.erase(worst);
+                }
                 Candidate c;
                 c.state = o.state;
                 c.evidence = o.rep.inlier_ratio;

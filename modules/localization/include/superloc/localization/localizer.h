@@ -173,6 +173,7 @@ class Localizer : public mrpt::system::COutputLogger {
         double evidence = 0;            ///< summed inlier ratio over its frames
         int frames = 0;                 ///< frames of evidence (the search's included)
         std::vector<double> history;    ///< inlier ratio per frame, the latest last
+        bool ruled_out = false;         ///< judged against the best on the last decision
         FrameReport rep;                ///< its last frame's fit
         HealthChecks checks;            ///< ... and the health checks on it
         std::vector<fusion::ScanCorrespondence> corr;
@@ -183,6 +184,7 @@ class Localizer : public mrpt::system::COutputLogger {
     int candidates_age_ = 0;          ///< frames the set has been tracked
     double track_ms_ = 0;             ///< [ms] refineCandidates() on this frame
     int track_dropped_ = 0, track_over_budget_ = 0;  ///< ...candidates it dropped, left out
+    bool track_left_out_ = false;     ///< a hypothesis of this frame's search found the set full
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;

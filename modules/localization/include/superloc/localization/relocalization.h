@@ -39,7 +39,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// of a frame without a pose keeps up to this many candidates and tracks each over the next
     /// scans, accumulating evidence, until one is clearly best; 0: none kept (each scan searches
     /// afresh)
-    int track_candidates = 5;
+    int track_candidates = 10;
     /// frames of evidence (the search's included) before a candidate may be committed by its margin
     int track_min_frames = 2;
     /// [-] commit when every other surviving candidate's summed inlier ratio is at most this x
