@@ -446,7 +446,7 @@ FrameReport Localizer::process(const Scan& scan) {
             }
             o = runRelocalization(scan, pred, region ? &*region : nullptr, rep);
         }
-        if (tracking && o != RelocOutcome::Accepted) o = decideCandidates(rep);
+        if (tracking && o != RelocOutcome::Accepted) o = decideCandidates(scan, rep);
         if (o == RelocOutcome::Accepted) reloc_pending_ = false, doubt_ = false, hypotheses_.clear();
     } else {
         if (method_ == Method::Ndt) {

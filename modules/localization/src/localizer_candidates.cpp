@@ -69,6 +69,7 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
         const auto odom = odomAltDelta(tc, scan.t);
         SE3d T_pred = T_c;
         bool imu_predicted = false;
+        const bool measured = imu_ok || odom.has_value();
         if (imu_ok && c.has_velocity) {
             T_pred = pre.predict(c.state.nav(), c.state.bias(), g_map_).pose();
             imu_predicted = true;
@@ -111,6 +112,7 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
         // tracking fits on this map (the run's reference).
         if (h == Health::Lost || checks.badFit()) {
             ++dropped;
+            ++track_judged_;
             continue;
         }
         // Its velocity at this frame: with the IMU, the one that carries the candidate from its
@@ -138,6 +140,7 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
         ++c.frames;
         c.rep = r;
         c.checks = checks;
+        for (int k = 0; k < 3; ++k) c.axis_held[k] = !checks.weak[k] || (measured && c.axis_held[k]);
         c.corr = corr_;
         c.stats = last_stats_;
         kept.push_back(std::move(c));
@@ -160,7 +163,53 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
     last_T_map_lidar_ = own_T;
 }
 
-RelocOutcome Localizer::decideCandidates(FrameReport& rep) {
+bool Localizer::weakAxesHeld(const Scan& scan, const Candidate& c) {
+    // A translation the scan constrains weakly (gamma below weak_gamma: the risk, before the
+    // solve) may still be held at the scale of the candidates: probe it. The candidate is moved
+    // track_probe_xyz along each weak axis, both ways, and refined again; the axis is held when
+    // every probe comes back (within max_pred_xyz) or fits clearly worse (under track_ratio x
+    // the candidate's inlier ratio). Along a featureless corridor a probe stays where it was put
+    // and fits as well: not held.
+    const auto& rp = params_.relocalization;
+    const fusion::FrameState own_state = cur_;
+    const auto own_corr = corr_;
+    const AssociationStats own_stats = last_stats_;
+    const SE3d own_T = last_T_map_lidar_;
+    bool held = true;
+    const SE3d T_c = c.state.T_map_imu();
+    for (int k = 0; k < 3 && held; ++k) {
+        if (!c.checks.weak[k]) continue;
+        for (const double sign : {-1.0, 1.0}) {
+            cur_ = c.state;
+            cur_.setPose(SE3d(Eigen::Translation3d(T_c.linear().col(k) * sign * rp.track_probe_xyz)) * T_c);
+            FrameReport r = c.rep;
+            r.diverged = false;
+            r.diverged_reason.clear();
+            r.converged = false;
+            r.rounds = r.iterations = 0;
+            solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
+            if (!assoc_.voxel) associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+            Prediction p;
+            p.T_map_imu = cur_.T_map_imu();
+            finish(scan, p, true, r);
+            const double back = translationDistance(r.T_map_lidar, c.rep.T_map_lidar);
+            const bool worse = r.diverged || r.inlier_ratio < rp.track_ratio * c.rep.inlier_ratio;
+            MRPT_LOG_DEBUG_FMT("  probe %s%c %.1f m: back to %.2f m, inliers %.3f vs %.3f", sign < 0 ? "-" : "+",
+                               "xyz"[k], rp.track_probe_xyz, back, r.inlier_ratio, c.rep.inlier_ratio);
+            if (!(back <= params_.health.max_pred_xyz || worse)) {
+                held = false;
+                break;
+            }
+        }
+    }
+    cur_ = own_state;
+    corr_ = own_corr;
+    last_stats_ = own_stats;
+    last_T_map_lidar_ = own_T;
+    return held;
+}
+
+RelocOutcome Localizer::decideCandidates(const Scan& scan, FrameReport& rep) {
     const auto& rp = params_.relocalization;
     const double ref = health_.reference();
     // What a search on this frame did (merged its hypotheses into the set), if one ran.
@@ -193,9 +242,15 @@ RelocOutcome Localizer::decideCandidates(FrameReport& rep) {
     // every other candidate is ruled out over the frames both were tracked: its summed inlier
     // ratio at most track_ratio x the best's (the single scan's margin, on summed evidence), or
     // the best ahead of it on each of the last track_consistent_frames of them.
+    // A translation the scan leaves weak on this frame counts as constrained when it was
+    // constrained on an earlier frame of the candidate and carried since by measured motion, or
+    // when probing it (weakAxesHeld, only once everything else says commit) finds it held (the
+    // simulated cave: gamma_x 0.00-0.23 on nearly every scan of the tunnel, yet the pose 2 m
+    // along it fits clearly worse).
     const HealthChecks& bc = best.checks;
-    const bool healthy = !bc.not_converged && !bc.badFit() && !bc.weakTranslation() && !bc.prediction &&
-                         (ref > 0 || best.rep.inlier_ratio >= rp.accept_inlier_ratio);
+    const bool carried = best.axis_held[0] && best.axis_held[1] && best.axis_held[2];
+    const bool fit_ok = !bc.not_converged && !bc.badFit() && !bc.prediction &&
+                        (ref > 0 || best.rep.inlier_ratio >= rp.accept_inlier_ratio);
     bool margin = true;
     double worst_ratio = 0;
     std::vector<bool> ruled(hypotheses_.size(), false);
@@ -208,7 +263,8 @@ RelocOutcome Localizer::decideCandidates(FrameReport& rep) {
             const double ha = a.history[a.history.size() - 1 - j], hb = best.history[best.history.size() - 1 - j];
             sa += ha;
             sb += hb;
-            if (hb > ha && ahead == j) ++ahead;  // consecutive frames ahead, counted from the latest
+            // consecutive frames ahead (by more than a tie: under track_lead x), from the latest
+            if (ha < rp.track_lead * hb && ahead == j) ++ahead;
         }
         const double ratio = sb > 0 ? sa / sb : 1.0;
         worst_ratio = std::max(worst_ratio, ratio);
@@ -225,13 +281,19 @@ RelocOutcome Localizer::decideCandidates(FrameReport& rep) {
                        best.rep.T_map_lidar.translation().y(), best.history.size(), mean(best));
     // A hypothesis of this frame's search that found no place in the full set was not judged.
     margin = margin && !track_left_out_;
-    if (!(healthy && margin && best.frames >= rp.track_min_frames)) {
+    // ...and something was told apart: another candidate ruled out here, or one dropped on the
+    // way. A lone candidate never compared with anything is no evidence (simulated cave: a lone
+    // pose 89 m off, inlier ratio 0.40, survived two frames).
+    const bool compared = hypotheses_.size() > 1 || track_judged_ > 0;
+    const bool ready = fit_ok && margin && compared && best.frames >= rp.track_min_frames;
+    const bool held = carried || (ready && weakAxesHeld(scan, best));
+    if (!(ready && held)) {
         // Candidates ruled out stay tracked (the next searches find their places again: a
         // judged place must not come back as a new, unjudged candidate), but yield their places
         // in the set to new ones when it is full.
         for (size_t i = 0; i < hypotheses_.size(); ++i) hypotheses_[i].ruled_out = ruled[i];
         rr.outcome = RelocOutcome::Ambiguous;
-        rr.detail = mrpt::format("candidates:%zu", hypotheses_.size()) + (healthy ? "" : "+unhealthy") +
+        rr.detail = mrpt::format("candidates:%zu", hypotheses_.size()) + (fit_ok ? "" : "+unhealthy") + (held ? "" : "+weak") + (compared ? "" : "+alone") +
                     (margin ? "" : mrpt::format("+margin:%.3f", rr.evidence_ratio)) +
                     (track_left_out_ ? "+full" : "") + budget;
         // Lost all the same, reporting the best candidate's pose.

@@ -191,7 +191,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         // look-alike seen once (measured: the office's rooms replaced each other every frame).
         const bool tracking = !hypotheses_.empty();
         if (rp.track_candidates > 0 && (rep.health == Health::Lost || reloc_pending_)) {
-            if (!tracking) candidates_age_ = 0;
+            if (!tracking) candidates_age_ = 0, track_judged_ = 0;
             double best_tracked = 0;
             for (const Candidate& c : hypotheses_) best_tracked = std::max(best_tracked, c.rep.inlier_ratio);
             std::sort(standing.begin(), standing.end(),
@@ -218,6 +218,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                         break;
                     }
                     hypotheses_.erase(worst);
+                    ++track_judged_;
                 }
                 Candidate c;
                 c.state = o.state;
@@ -226,6 +227,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                 c.frames = 1;
                 c.rep = o.rep;
                 health_.classify(o.rep, nullptr, &c.checks);
+                for (int k = 0; k < 3; ++k) c.axis_held[k] = !c.checks.weak[k];
                 c.corr = o.corr;
                 c.stats = o.stats;
                 hypotheses_.push_back(std::move(c));

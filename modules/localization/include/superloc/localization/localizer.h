@@ -86,6 +86,7 @@ class Localizer : public mrpt::system::COutputLogger {
     Method method() const { return method_; }
 
    private:
+    struct Candidate;
     struct Prediction {
         SE3d T_map_imu = SE3d::Identity();
         Vec3d v = Vec3d::Zero();
@@ -134,7 +135,10 @@ class Localizer : public mrpt::system::COutputLogger {
     /// clearly and consistently best over the frames is committed (Accepted: rep and the state
     /// are its own); else the frame is reported lost with the best candidate's pose (Ambiguous),
     /// or Failed when no candidate is left.
-    RelocOutcome decideCandidates(FrameReport& rep);
+    RelocOutcome decideCandidates(const Scan& scan, FrameReport& rep);
+    /// Whether each translation the candidate's scan constrains weakly is held all the same:
+    /// probes moved along it come back or fit clearly worse (localizer_candidates.cpp).
+    bool weakAxesHeld(const Scan& scan, const Candidate& c);
     /// Where a frame lost `lost_run` frames in a row searches: around the last frame not lost
     /// (local), or nowhere in particular (global: empty).
     std::optional<reloc::SearchRegion> lostRegion(const Scan& scan, int lost_run) const;
@@ -174,6 +178,9 @@ class Localizer : public mrpt::system::COutputLogger {
         int frames = 0;                 ///< frames of evidence (the search's included)
         std::vector<double> history;    ///< inlier ratio per frame, the latest last
         bool ruled_out = false;         ///< judged against the best on the last decision
+        /// per translation axis: constrained by the scan (gamma >= weak_gamma) on one of its
+        /// frames, every frame since moved by measured motion (IMU or odom_alt), which carries it
+        std::array<bool, 3> axis_held{};
         FrameReport rep;                ///< its last frame's fit
         HealthChecks checks;            ///< ... and the health checks on it
         std::vector<fusion::ScanCorrespondence> corr;
@@ -185,6 +192,7 @@ class Localizer : public mrpt::system::COutputLogger {
     double track_ms_ = 0;             ///< [ms] refineCandidates() on this frame
     int track_dropped_ = 0, track_over_budget_ = 0;  ///< ...candidates it dropped, left out
     bool track_left_out_ = false;     ///< a hypothesis of this frame's search found the set full
+    int track_judged_ = 0;            ///< candidates of this set dropped (lost, bad fit, ruled out)
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;

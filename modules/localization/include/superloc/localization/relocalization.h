@@ -48,6 +48,10 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// an alternative is also ruled out when the best was ahead of it on each of its last this
     /// many frames tracked together (consistently best)
     int track_consistent_frames = 4;
+    /// [-] ahead on a frame: the alternative's inlier ratio under this x the best's (not a tie)
+    double track_lead = 0.99;
+    /// [m] a weak translation of the best candidate is probed this far both ways before a commit
+    double track_probe_xyz = 1.0;
     /// a fresh search every this many tracked frames, its hypotheses merged into the set as
     /// candidates (0: only when the set is empty)
     int track_search_every = 1;
