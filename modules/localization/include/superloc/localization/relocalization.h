@@ -49,7 +49,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// many frames tracked together (consistently best)
     int track_consistent_frames = 4;
     /// [-] ahead on a frame: the alternative's inlier ratio under this x the best's (not a tie)
-    double track_lead = 0.99;
+    double track_lead = 1.0;
     /// [m] a weak translation of the best candidate is probed this far both ways before a commit
     double track_probe_xyz = 1.0;
     /// a fresh search every this many tracked frames, its hypotheses merged into the set as
