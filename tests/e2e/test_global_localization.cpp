@@ -357,6 +357,21 @@ TEST(GlobalLocalization, SimCaveStartsPlacedByTrackingCandidates) {
     EXPECT_GE(t.placed, 11);  // measured: 11 of 12 (placed on frames 1-3), 1 not placed, none wrong
 }
 
+// The featureless corridor (as in FeaturelessCorridorIsAmbiguousNotPlaced) at 2 scans a second:
+// tracking the candidates along it over the frames must not place a start wrong either (the
+// candidates tie along x and the weak x is probed before any commit).
+TEST(GlobalLocalization, FeaturelessCorridorTrackedNeverPlacedWrong) {
+    const std::string dir = superloc::testing::simulatedSequence(
+        "gloc_track_corridor", "corridor",
+        "--set sim.scan_every=5 --set corridor.length=150 --set corridor.recesses=0 --set sim.duration=12"
+        " --set lidar.preset=../sensors/vlp16.ini");
+    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
+    const TrackTally t = placedFromStarts("gloc_track_corridor", readSimItems(dir), 6, kTrackFrames);
+    EXPECT_EQ(t.starts, 6);
+    EXPECT_EQ(t.placed_wrong, 0);
+    EXPECT_EQ(t.ok_wrong, 0);
+}
+
 // A kidnap on real data: campus-ouster's odd scans 0-9, then (2 s later, as if the next scan)
 // odd scans 18-25: the walker is carried 11.9 m and turned 103 deg between two scans. The map
 // holds the even scans only. The kidnap must be detected (a lost frame) within 3 frames, the
