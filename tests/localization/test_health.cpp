@@ -101,8 +101,9 @@ TEST(Relocalization, TrackingParamsLoadSaveValidate) {
     EXPECT_NO_THROW(p.validate());
     mrpt::config::CConfigFileMemory out;
     p.saveToConfigFile(out, "relocalization");
+    const mrpt::config::CConfigFileMemory text(out.getContent());  // as a file would be read back
     RelocalizationParams q;
-    q.loadFromConfigFile(out, "relocalization");
+    q.loadFromConfigFile(text, "relocalization");
     EXPECT_EQ(q.track_candidates, 7);
     EXPECT_DOUBLE_EQ(q.track_ratio, p.track_ratio);
     EXPECT_EQ(q.track_max_frames, p.track_max_frames);
