@@ -186,6 +186,12 @@ struct TrackTally {
     int not_placed = 0;     ///< no commit within max_frames (every frame lost)
     int ok_wrong = 0;       ///< frames ok while more than 0.5 m / 5 deg off
     int max_frames_to_place = 0;  ///< frames from the start to the commit, worst placed start
+    std::vector<int> frames_to_place;  ///< scans each start placed right took (its start's included)
+    /// starts placed right within n scans
+    int placedWithin(int n) const {
+        return static_cast<int>(std::count_if(frames_to_place.begin(), frames_to_place.end(),
+                                              [n](int f) { return f <= n; }));
+    }
     double max_track_ms = 0;      ///< slowest frame tracking candidates (mode "track")
     std::vector<double> track_ms;  ///< every frame tracking candidates
 };
@@ -194,8 +200,9 @@ struct TrackTally {
 /// (relocalize() before the start scan, the second of IMU and odom_alt before it given) runs
 /// up to `max_frames` scans, and 3 more after a commit. Each frame's health is checked against
 /// GT: never ok while more than 0.5 m / 5 deg off.
-/// Scans a start may take to be placed (N of issue 11's "placed after at most N frames").
-constexpr int kTrackFrames = 10;
+/// Scans a start may take to be placed (N of issue 11's "placed after at most N frames"); the
+/// starts are spread over the sequence less its last kTrackFrames scans.
+constexpr int kTrackFrames = 16;
 
 TrackTally placedFromStarts(const std::string& name, const SimItems& s, int starts, int max_frames) {
     TrackTally t;
@@ -248,6 +255,7 @@ TrackTally placedFromStarts(const std::string& name, const SimItems& s, int star
                 const bool right = dm <= 0.3 && dd <= 3.0;
                 (right ? t.placed : t.placed_wrong)++;
                 if (right) t.max_frames_to_place = std::max(t.max_frames_to_place, f + 1);
+                if (right) t.frames_to_place.push_back(f + 1);
                 std::cout << name << " start " << first << ": placed on frame " << f << ", " << dm << " m / " << dd
                           << " deg off\n";
             }
@@ -260,7 +268,7 @@ TrackTally placedFromStarts(const std::string& name, const SimItems& s, int star
     }
     std::sort(t.track_ms.begin(), t.track_ms.end());
     std::cout << name << ": " << t.placed << " of " << t.starts << " placed within 0.3 m / 3 deg (within "
-              << t.max_frames_to_place << " frames), " << t.placed_wrong << " placed farther, " << t.not_placed
+              << t.max_frames_to_place << " frames; " << t.placedWithin(10) << " within 10), " << t.placed_wrong << " placed farther, " << t.not_placed
               << " not placed, " << t.ok_wrong << " frames ok while wrong; tracking frames median "
               << (t.track_ms.empty() ? 0.0 : t.track_ms[t.track_ms.size() / 2]) << " ms, slowest " << t.max_track_ms
               << " ms\n";
@@ -333,9 +341,11 @@ TEST(GlobalLocalization, SimCaveTwentyScansAmbiguousNeverWrong) {
 
 // Multi-frame hypothesis tracking (doc/relocalization.md §4): the same worlds at 2 scans a
 // second (one revolution in 5) with their IMU and odom_alt, a start without a pose from 12
-// scans spread over each route; the candidates of the ambiguous first search are tracked over
-// the next scans until one is clearly best. Every start must be placed right or not at all, no
-// frame ok while wrong.
+// scans spread over each route, at most kTrackFrames (16) scans each; the candidates of the
+// ambiguous first search are tracked over the next scans until one is clearly best. Every start
+// must be placed right or not at all, no frame ok while wrong. (With track_min_frames = 2 two
+// cave starts of this layout were placed 45 m and 52 m off on their second scan: a margin over
+// wrong candidates when the right one was not among them; 4 frames give the searches time.)
 TEST(GlobalLocalization, SimOfficeStartsPlacedByTrackingCandidates) {
     const std::string dir = superloc::testing::simulatedSequence("gloc_kidnap_office", "office",
                                                                  "--set sim.scan_every=5");
@@ -344,7 +354,9 @@ TEST(GlobalLocalization, SimOfficeStartsPlacedByTrackingCandidates) {
     EXPECT_EQ(t.starts, 12);
     EXPECT_EQ(t.placed_wrong, 0);
     EXPECT_EQ(t.ok_wrong, 0);
-    EXPECT_GE(t.placed, 10);  // measured: 10 of 12 (placed on frames 3-9), 2 not placed, none wrong
+    // measured: 12 of 12 placed right, 10 of them within 10 scans, the last on its 14th; none wrong
+    EXPECT_GE(t.placed, 12);
+    EXPECT_GE(t.placedWithin(10), 10);
 }
 
 TEST(GlobalLocalization, SimCaveStartsPlacedByTrackingCandidates) {
@@ -354,7 +366,9 @@ TEST(GlobalLocalization, SimCaveStartsPlacedByTrackingCandidates) {
     EXPECT_EQ(t.starts, 12);
     EXPECT_EQ(t.placed_wrong, 0);
     EXPECT_EQ(t.ok_wrong, 0);
-    EXPECT_GE(t.placed, 11);  // measured: 11 of 12 (placed on frames 1-3), 1 not placed, none wrong
+    // measured: 12 of 12 placed right, 11 of them within 10 scans, the last on its 14th; none wrong
+    EXPECT_GE(t.placed, 12);
+    EXPECT_GE(t.placedWithin(10), 11);
 }
 
 // The featureless corridor (as in FeaturelessCorridorIsAmbiguousNotPlaced) at 2 scans a second:

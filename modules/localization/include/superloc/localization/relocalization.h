@@ -41,7 +41,7 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// afresh)
     int track_candidates = 10;
     /// frames of evidence (the search's included) before a candidate may be committed by its margin
-    int track_min_frames = 2;
+    int track_min_frames = 4;
     /// [-] commit when every other surviving candidate's summed inlier ratio is at most this x
     /// the best's (or the best is the only survivor); the best must fit healthily on the frame
     double track_ratio = 0.9;
