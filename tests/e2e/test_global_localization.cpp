@@ -12,6 +12,7 @@
 #include <superloc/core/se3.h>
 #include <superloc/localization/localizer.h>
 
+#include <algorithm>
 #include <fstream>
 #include <optional>
 #include <filesystem>
@@ -158,6 +159,124 @@ struct KidnapWatch {
 }  // namespace
 
 namespace {
+/// A simulated sequence read whole: its IMU, odom_alt and LiDAR items in time order (GT left
+/// out) and one GT pose per scan (gt_tum.txt).
+struct SimItems {
+    std::vector<io::RawlogItem> items;
+    Trajectory gt;
+    std::shared_ptr<const map::PriorMap> map;
+};
+SimItems readSimItems(const std::string& dir) {
+    SimItems s;
+    io::RawlogReader reader(dir + "/sequence.rawlog", io::RawlogParams{});
+    reader.logger().setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    io::RawlogItem it;
+    while (reader.next(it))
+        if (it.kind != io::RawlogItem::Kind::GroundTruth) s.items.push_back(it);
+    s.gt = io::loadTum(dir + "/gt_tum.txt");
+    s.map = std::make_shared<const map::PriorMap>(map::PriorMap::load(dir + "/prior_map.pcd", map::MapParams{}));
+    return s;
+}
+
+/// What a start without a pose (relocalize()) came to after at most `max_frames` scans.
+struct TrackTally {
+    int starts = 0;
+    int placed = 0;         ///< committed within max_frames, within 0.3 m / 3 deg
+    int placed_wrong = 0;   ///< committed farther than 0.3 m / 3 deg
+    int not_placed = 0;     ///< no commit within max_frames (every frame lost)
+    int ok_wrong = 0;       ///< frames ok while more than 0.5 m / 5 deg off
+    int max_frames_to_place = 0;  ///< frames from the start to the commit, worst placed start
+    std::vector<int> frames_to_place;  ///< scans each start placed right took (its start's included)
+    /// starts placed right within n scans
+    int placedWithin(int n) const {
+        return static_cast<int>(std::count_if(frames_to_place.begin(), frames_to_place.end(),
+                                              [n](int f) { return f <= n; }));
+    }
+    double max_track_ms = 0;      ///< slowest frame tracking candidates (mode "track")
+    std::vector<double> track_ms;  ///< every frame tracking candidates
+};
+
+/// From `starts` scans spread evenly over the sequence, a fresh Localizer with no pose
+/// (relocalize() before the start scan, the second of IMU and odom_alt before it given) runs
+/// up to `max_frames` scans, and 3 more after a commit. Each frame's health is checked against
+/// GT: never ok while more than 0.5 m / 5 deg off.
+/// Scans a start may take to be placed (N of issue 11's "placed after at most N frames"); the
+/// starts are spread over the sequence less its last kTrackFrames scans.
+constexpr int kTrackFrames = 16;
+
+TrackTally placedFromStarts(const std::string& name, const SimItems& s, int starts, int max_frames) {
+    TrackTally t;
+    std::vector<size_t> scan_item;  // item index of each scan
+    for (size_t i = 0; i < s.items.size(); ++i)
+        if (s.items[i].kind == io::RawlogItem::Kind::Lidar) scan_item.push_back(i);
+    const size_t n_scans = std::min(scan_item.size(), s.gt.size());
+    if (n_scans < static_cast<size_t>(max_frames + starts)) {
+        ADD_FAILURE() << name << ": " << n_scans << " scans only";
+        return t;
+    }
+    const bool debug = std::getenv("SUPERLOC_TEST_DEBUG") != nullptr;
+    for (int k = 0; k < starts; ++k) {
+        const size_t first = k * (n_scans - max_frames) / (starts - 1 > 0 ? starts - 1 : 1);
+        Localizer loc(defaultParams({}), s.map);
+        loc.setMinLoggingLevel(debug ? mrpt::system::LVL_DEBUG : mrpt::system::LVL_ERROR);
+        loc.relocalize();
+        ++t.starts;
+        std::optional<int> committed;
+        size_t scan = first;
+        const double t_from = s.items[scan_item[first]].time() - 1.0;
+        for (size_t i = 0; i < s.items.size() && scan < n_scans; ++i) {
+            const auto& it = s.items[i];
+            if (it.time() < t_from || (it.kind == io::RawlogItem::Kind::Lidar && i < scan_item[first])) continue;
+            if (it.kind == io::RawlogItem::Kind::Imu) loc.addImu(it.imu());
+            if (it.kind == io::RawlogItem::Kind::OdomAlt) loc.addOdomAlt(it.pose());
+            if (it.kind != io::RawlogItem::Kind::Lidar) continue;
+            const FrameReport r = loc.process(it.scan());
+            const int f = static_cast<int>(scan - first);
+            const SE3d& T_gt = s.gt[scan].pose;
+            ++scan;
+            const double dm = translationDistance(r.T_map_lidar, T_gt);
+            const double dd = rotationAngle(r.T_map_lidar, T_gt) * 180 / M_PI;
+            if (debug)
+                std::cout << name << " start " << first << " frame " << f << ": " << healthName(r.health) << " ("
+                          << r.health_reason << ") " << r.reloc.mode << " " << relocOutcomeName(r.reloc.outcome)
+                          << " " << r.reloc.detail << " ratio " << r.reloc.evidence_ratio << ", " << dm << " m / "
+                          << dd << " deg off, " << r.ms.total << " ms\n";
+            if (r.reloc.mode == "track") {
+                t.track_ms.push_back(r.ms.total);
+                t.max_track_ms = std::max(t.max_track_ms, r.ms.total);
+            }
+            if (r.health == Health::Ok && !(dm <= 0.5 && dd <= 5.0)) {
+                ++t.ok_wrong;
+                ADD_FAILURE() << name << " start " << first << " frame " << f << ": ok while " << dm << " m / " << dd
+                              << " deg off";
+            }
+            if (!committed && r.reloc.outcome == RelocOutcome::Accepted) {
+                committed = f;
+                const bool right = dm <= 0.3 && dd <= 3.0;
+                (right ? t.placed : t.placed_wrong)++;
+                if (right) t.max_frames_to_place = std::max(t.max_frames_to_place, f + 1);
+                if (right) t.frames_to_place.push_back(f + 1);
+                std::cout << name << " start " << first << ": placed on frame " << f << ", " << dm << " m / " << dd
+                          << " deg off\n";
+            }
+            if (committed ? f >= *committed + 3 : f + 1 >= max_frames) break;
+        }
+        if (!committed) {
+            ++t.not_placed;
+            std::cout << name << " start " << first << ": not placed in " << max_frames << " frames\n";
+        }
+    }
+    std::sort(t.track_ms.begin(), t.track_ms.end());
+    std::cout << name << ": " << t.placed << " of " << t.starts << " placed within 0.3 m / 3 deg (within "
+              << t.max_frames_to_place << " frames; " << t.placedWithin(10) << " within 10), " << t.placed_wrong << " placed farther, " << t.not_placed
+              << " not placed, " << t.ok_wrong << " frames ok while wrong; tracking frames median "
+              << (t.track_ms.empty() ? 0.0 : t.track_ms[t.track_ms.size() / 2]) << " ms, slowest " << t.max_track_ms
+              << " ms\n";
+    return t;
+}
+}  // namespace
+
+namespace {
 /// Both halves of a real split, each localized scan by scan in the other half's map.
 Tally bothWays(const std::string& name, const std::string& data, double voxel) {
     const Tally a = eachScanOnItsOwn(name + "_even", data, "even", "odd", voxel);
@@ -220,6 +339,53 @@ TEST(GlobalLocalization, SimCaveTwentyScansAmbiguousNeverWrong) {
     expectAmbiguousNeverWrong("cave", 4);  // measured: 2 placed + 16 ambiguous, 2 + 11 right
 }
 
+// Multi-frame hypothesis tracking (doc/relocalization.md §4): the same worlds at 2 scans a
+// second (one revolution in 5) with their IMU and odom_alt, a start without a pose from 12
+// scans spread over each route, at most kTrackFrames (16) scans each; the candidates of the
+// ambiguous first search are tracked over the next scans until one is clearly best. Every start
+// must be placed right or not at all, no frame ok while wrong. (With track_min_frames = 2 two
+// cave starts of this layout were placed 45 m and 52 m off on their second scan: a margin over
+// wrong candidates when the right one was not among them; 4 frames give the searches time.)
+TEST(GlobalLocalization, SimOfficeStartsPlacedByTrackingCandidates) {
+    const std::string dir = superloc::testing::simulatedSequence("gloc_kidnap_office", "office",
+                                                                 "--set sim.scan_every=5");
+    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
+    const TrackTally t = placedFromStarts("gloc_track_office", readSimItems(dir), 12, kTrackFrames);
+    EXPECT_EQ(t.starts, 12);
+    EXPECT_EQ(t.placed_wrong, 0);
+    EXPECT_EQ(t.ok_wrong, 0);
+    // measured: 12 of 12 placed right, 10 of them within 10 scans, the last on its 14th; none wrong
+    EXPECT_GE(t.placed, 12);
+    EXPECT_GE(t.placedWithin(10), 10);
+}
+
+TEST(GlobalLocalization, SimCaveStartsPlacedByTrackingCandidates) {
+    const std::string dir = superloc::testing::simulatedSequence("gloc_track_cave", "cave", "--set sim.scan_every=5");
+    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
+    const TrackTally t = placedFromStarts("gloc_track_cave", readSimItems(dir), 12, kTrackFrames);
+    EXPECT_EQ(t.starts, 12);
+    EXPECT_EQ(t.placed_wrong, 0);
+    EXPECT_EQ(t.ok_wrong, 0);
+    // measured: 12 of 12 placed right, 11 of them within 10 scans, the last on its 14th; none wrong
+    EXPECT_GE(t.placed, 12);
+    EXPECT_GE(t.placedWithin(10), 11);
+}
+
+// The featureless corridor (as in FeaturelessCorridorIsAmbiguousNotPlaced) at 2 scans a second:
+// tracking the candidates along it over the frames must not place a start wrong either (the
+// candidates tie along x and the weak x is probed before any commit).
+TEST(GlobalLocalization, FeaturelessCorridorTrackedNeverPlacedWrong) {
+    const std::string dir = superloc::testing::simulatedSequence(
+        "gloc_track_corridor", "corridor",
+        "--set sim.scan_every=5 --set corridor.length=150 --set corridor.recesses=0 --set sim.duration=12"
+        " --set lidar.preset=../sensors/vlp16.ini");
+    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
+    const TrackTally t = placedFromStarts("gloc_track_corridor", readSimItems(dir), 6, kTrackFrames);
+    EXPECT_EQ(t.starts, 6);
+    EXPECT_EQ(t.placed_wrong, 0);
+    EXPECT_EQ(t.ok_wrong, 0);
+}
+
 // A kidnap on real data: campus-ouster's odd scans 0-9, then (2 s later, as if the next scan)
 // odd scans 18-25: the walker is carried 11.9 m and turned 103 deg between two scans. The map
 // holds the even scans only. The kidnap must be detected (a lost frame) within 3 frames, the
@@ -265,11 +431,11 @@ TEST(GlobalLocalization, CampusKidnapDetectedAndRecovered) {
 // the route (2 scans a second: one revolution in 5), then, as if the next scan, a part of the
 // route at least 5 m and 90 deg away, its IMU and odom_alt shifted in time with it (the IMU
 // keeps measuring, the platform is carried). The kidnap must be detected within 3 frames and no
-// frame after it reported ok while more than 0.5 m / 5 deg off. Issue 11 asked the pose found
-// again within 10 frames; measured, every search after the kidnap is ambiguous (the look-alike
-// rooms, as in SimOfficeTwentyScansAmbiguousNeverWrong) for the 20 frames that follow, so the
-// recovery is reported, not asserted: one scan at a time cannot tell these rooms apart, and
-// tracking several hypotheses over frames is not built.
+// frame after it reported ok while more than 0.5 m / 5 deg off, and the pose found again within
+// 10 frames. Every single-scan search after the kidnap is ambiguous (the look-alike rooms, as in
+// SimOfficeTwentyScansAmbiguousNeverWrong: without tracking it was never relocalized in 20
+// frames); the candidates tracked over the frames (doc/relocalization.md §4) are told apart:
+// measured, relocalized on frame 6 after the jump, 2-4 cm off.
 TEST(GlobalLocalization, SimOfficeKidnapDetectedNeverWrong) {
     const std::string dir = superloc::testing::simulatedSequence("gloc_kidnap_office", "office",
                                                                  "--set sim.scan_every=5");
@@ -334,6 +500,8 @@ TEST(GlobalLocalization, SimOfficeKidnapDetectedNeverWrong) {
               << (recovered ? "relocalized at frame " + std::to_string(*recovered - k) + " after it"
                             : std::string("not relocalized (ambiguous)"))
               << "\n";
+    ASSERT_TRUE(recovered.has_value()) << "never relocalized";
+    EXPECT_LE(*recovered, k + 9);
 }
 
 // The paper's point, for relocalization: inside a 150 m corridor with nothing along its axis a

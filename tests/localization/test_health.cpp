@@ -2,6 +2,11 @@
 #include <gtest/gtest.h>
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
+#include <superloc/localization/relocalization.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <superloc/core/config.h>
+
+#include <string>
 
 using namespace superloc;
 using namespace superloc::localization;
@@ -79,4 +84,49 @@ TEST(Health, ParamsValidate) {
     p = HealthParams{};
     p.weak_gamma = 1.5;
     EXPECT_ANY_THROW(p.validate());
+}
+
+// The multi-frame tracking keys of [relocalization] (doc/relocalization.md §4): loaded, saved
+// back, and each bad value a one-line ConfigError naming its key.
+TEST(Relocalization, TrackingParamsLoadSaveValidate) {
+    mrpt::config::CConfigFileMemory ini;
+    ini.write("relocalization", "track_candidates", "7");
+    ini.write("relocalization", "track_consistent_frames", "5");
+    ini.write("relocalization", "track_probe_xyz", "1.5");
+    RelocalizationParams p;
+    p.loadFromConfigFile(ini, "relocalization");
+    EXPECT_EQ(p.track_candidates, 7);
+    EXPECT_EQ(p.track_consistent_frames, 5);
+    EXPECT_DOUBLE_EQ(p.track_probe_xyz, 1.5);
+    EXPECT_NO_THROW(p.validate());
+    mrpt::config::CConfigFileMemory out;
+    p.saveToConfigFile(out, "relocalization");
+    const mrpt::config::CConfigFileMemory text(out.getContent());  // as a file would be read back
+    RelocalizationParams q;
+    q.loadFromConfigFile(text, "relocalization");
+    EXPECT_EQ(q.track_candidates, 7);
+    EXPECT_DOUBLE_EQ(q.track_ratio, p.track_ratio);
+    EXPECT_EQ(q.track_max_frames, p.track_max_frames);
+
+    const auto error = [](auto set) {
+        RelocalizationParams r;
+        set(r);
+        try {
+            r.validate();
+        } catch (const superloc::ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(error([](auto& r) { r.track_candidates = -1; }).find("track_candidates"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_min_frames = 1; }).find("track_min_frames"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_ratio = 1.2; }).find("track_ratio"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_consistent_frames = 1; }).find("track_consistent_frames"),
+              std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_lead = 0; }).find("track_lead"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_probe_xyz = -1; }).find("track_probe_xyz"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_search_every = -1; }).find("track_search_every"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_max_frames = 1; }).find("track_max_frames"), std::string::npos);
+    EXPECT_NE(error([](auto& r) { r.track_max_ms = 0; }).find("track_max_ms"), std::string::npos);
+    EXPECT_EQ(error([](auto&) {}), "");
 }

@@ -23,7 +23,8 @@ std::string framesCsvHeader() {
            "hess_eig_1,hess_eig_2,hess_eig_3,hess_eig_4,hess_eig_5,hess_eig_6,"
            "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered,"
            "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg,"
-           "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg";
+           "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg,"
+           "reloc_candidates,reloc_evidence_ratio";
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -77,6 +78,8 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     add("%.2f", r.reloc.search_ms + r.reloc.verify_ms);
     add("%.5f", r.last_step_xyz);
     add("%.4f", r.last_step_deg);
+    add("%d", r.reloc.candidates);
+    add("%.4f", r.reloc.evidence_ratio);
     return s;
 }
 

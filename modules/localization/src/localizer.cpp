@@ -432,14 +432,29 @@ FrameReport Localizer::process(const Scan& scan) {
         first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
     restart_ = false;
     rep.coarse_start = velocity_unknown && variant_.registration != Registration::Ndt;
-    const bool requested = reloc_pending_;
+    const bool requested = reloc_pending_ || !hypotheses_.empty();
     if (requested) {
         // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
-        // Until a pose is accepted, every scan searches again.
+        // Until a pose is accepted, every scan searches again, or, after an ambiguous search,
+        // tracks its candidates (doc/relocalization.md §4); a lost frame's candidates likewise.
         rep.diverged = true;
         rep.diverged_reason = "no_pose";
-        if (runRelocalization(scan, pred, reloc_region_ ? &*reloc_region_ : nullptr, rep) == RelocOutcome::Accepted)
-            reloc_pending_ = false, doubt_ = false;
+        const auto& rp = params_.relocalization;
+        if (!hypotheses_.empty()) refineCandidates(scan, rep);
+        const bool tracking = !hypotheses_.empty();
+        RelocOutcome o = RelocOutcome::None;
+        if (!tracking || (rp.track_search_every > 0 && candidates_age_ % rp.track_search_every == 0)) {
+            // A fresh search, where relocalize() asked or a lost frame looks; while candidates are
+            // tracked, its hypotheses join them (and its winner must beat them too).
+            std::optional<reloc::SearchRegion> region = reloc_region_;
+            if (!reloc_pending_) {
+                rep.health = Health::Lost;
+                region = lostRegion(scan, lost_run_ + 1);
+            }
+            o = runRelocalization(scan, pred, region ? &*region : nullptr, rep);
+        }
+        if (tracking && o != RelocOutcome::Accepted) o = decideCandidates(scan, rep);
+        if (o == RelocOutcome::Accepted) reloc_pending_ = false, doubt_ = false, hypotheses_.clear();
     } else {
         if (variant_.registration == Registration::Ndt) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);

@@ -77,7 +77,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     std::vector<Outcome> verified;
     // Every attempt that is not lost, settled or not: an alternative that fits about as well
     // but did not settle in its rounds is no evidence against it (look-alike rooms).
-    std::vector<FrameReport> standing;
+    std::vector<Outcome> standing;
     t0 = Clock::now();
     // Verified coarse to fine in the voxel map whatever the tracking association (doc/map.md):
     // its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps, and it is fast.
@@ -118,7 +118,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         const bool fits = !c.not_converged && h != Health::Lost && !c.badFit() &&
                           (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
         if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
-        if (h != Health::Lost) standing.push_back(r);
+        if (h != Health::Lost) standing.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
         const Vec3d& x = r.T_map_lidar.translation();
         MRPT_LOG_DEBUG_FMT("hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
                            found.hypotheses[i].score, x.x(), x.y(), x.z(),
@@ -153,7 +153,8 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // constrain (gamma below the health check's weak_gamma on x, y or z: a corridor's scan fits
     // anywhere along it).
     std::string ambiguous;
-    for (const FrameReport& o : standing) {
+    for (const Outcome& so : standing) {
+        const FrameReport& o = so.rep;
         const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
                               rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
         if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
@@ -161,16 +162,82 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
             ambiguous = "alternatives";
         }
     }
+    // While candidates are tracked (refined on this scan already), each is an alternative too:
+    // one scan's pose is taken only when it beats them as it beats its own hypotheses.
+    for (const Candidate& c : hypotheses_) {
+        const FrameReport& o = c.rep;
+        const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
+                              rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
+        if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
+            rr.alternatives.push_back(o.T_map_lidar);
+            if (ambiguous.find("candidates") == std::string::npos)
+                ambiguous += std::string(ambiguous.empty() ? "" : "+") + "candidates";
+        }
+    }
     for (int k = 0; k < 3; ++k)
         if (best.rep.gamma[k] < params_.health.weak_gamma)
             ambiguous += (ambiguous.empty() ? "" : "+") + mrpt::format("weak_%s:%.2f", kAxisNames[k], best.rep.gamma[k]);
     if (!ambiguous.empty()) {
         // Not committed: the frame stays as it was (lost), reporting the best pose found and
-        // its alternatives; the next scan searches again.
+        // its alternatives. A frame without a pose (lost, or relocalize()) keeps every attempt
+        // that stands as a candidate, tracked over the next scans (trackCandidates); else, or
+        // with track_candidates = 0, the next scan searches again.
         restore(own);
         rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = ambiguous;
         rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
+        // While candidates are tracked, the new ones (not already tracked) take the free places,
+        // best fitting first: a tracked candidate is judged over its frames, not displaced by a
+        // look-alike seen once (measured: the office's rooms replaced each other every frame).
+        const bool tracking = !hypotheses_.empty();
+        if (rp.track_candidates > 0 && (rep.health == Health::Lost || reloc_pending_)) {
+            if (!tracking) candidates_age_ = 0, track_judged_ = 0;
+            double best_tracked = 0;
+            for (const Candidate& c : hypotheses_) best_tracked = std::max(best_tracked, c.rep.inlier_ratio);
+            std::sort(standing.begin(), standing.end(),
+                      [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
+            for (const Outcome& o : standing) {
+                const bool same = std::any_of(hypotheses_.begin(), hypotheses_.end(), [&](const Candidate& c) {
+                    return translationDistance(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_xyz &&
+                           rotationAngle(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_deg * kDeg;
+                });
+                if (same) continue;
+                // While tracking: one that fits this scan clearly worse than the best tracked
+                // candidate (under track_ratio x its inlier ratio) is no alternative.
+                if (o.rep.inlier_ratio < rp.track_ratio * best_tracked) continue;
+                if (static_cast<int>(hypotheses_.size()) >= rp.track_candidates) {
+                    // Full: the worst candidate already ruled out yields its place, else this
+                    // hypothesis is left out (and the frame commits nothing).
+                    auto worst = hypotheses_.end();
+                    for (auto it = hypotheses_.begin(); it != hypotheses_.end(); ++it)
+                        if (it->ruled_out && (worst == hypotheses_.end() || it->evidence / it->frames <
+                                                                                worst->evidence / worst->frames))
+                            worst = it;
+                    if (worst == hypotheses_.end()) {
+                        track_left_out_ = true;
+                        break;
+                    }
+                    hypotheses_.erase(worst);
+                    ++track_judged_;
+                }
+                Candidate c;
+                c.state = o.state;
+                c.evidence = o.rep.inlier_ratio;
+                c.history.push_back(o.rep.inlier_ratio);
+                c.frames = 1;
+                c.rep = o.rep;
+                health_.classify(o.rep, nullptr, &c.checks);
+                for (int k = 0; k < 3; ++k) c.axis_held[k] = !c.checks.weak[k];
+                c.corr = o.corr;
+                c.stats = o.stats;
+                hypotheses_.push_back(std::move(c));
+            }
+            if (!tracking) candidates_trigger_ = rr.trigger;
+            rr.candidates = static_cast<int>(hypotheses_.size());
+            // The frame reports the best-fitting pose (lost all the same).
+            rep.T_map_lidar = best.rep.T_map_lidar;
+            rep.T_map_imu = best.rep.T_map_imu;
+        }
         report(rep);
         return rr.outcome;
     }
@@ -256,16 +323,8 @@ void Localizer::recoverIfLost(const Scan& scan, const Prediction& pred, bool may
         if (c.inDoubt() || rep.health == Health::Lost) doubt_ = true;
         return;
     }
-    const bool global = lost_run_ >= rp.global_after_lost || !last_good_;
-    reloc::SearchRegion region;
-    if (!global) {
-        region.centre = last_good_->T_map_lidar.translation();
-        region.radius = rp.local_radius + rp.local_radius_rate * std::max(0.0, scan.t - last_good_->state.t);
-        const Mat3d& R = last_good_->T_map_lidar.linear();
-        region.yaw = std::atan2(R(1, 0), R(0, 0));
-        region.yaw_half_width = rp.local_yaw_deg * kDeg;
-    }
-    switch (runRelocalization(scan, pred, global ? nullptr : &region, rep)) {
+    const auto region = lostRegion(scan, lost_run_);
+    switch (runRelocalization(scan, pred, region ? &*region : nullptr, rep)) {
         case RelocOutcome::Accepted:
             assess(rep);
             lost_run_ = rep.health == Health::Lost ? lost_run_ : 0;

@@ -31,6 +31,15 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(doubt_max_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(doubt_max_deg, double, c, s);
     out_of_map = c.read_string(s, "out_of_map", out_of_map);
+    MRPT_LOAD_CONFIG_VAR(track_candidates, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_min_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_ratio, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_consistent_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_lead, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_probe_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_search_every, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_max_frames, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(track_max_ms, double, c, s);
 }
 
 void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -48,6 +57,15 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_xyz, "[m] a frame in doubt takes a verified pose only within this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_deg, "[deg] ...and within this rotation");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out_of_map, "initial pose outside the map: error | global");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_candidates, "candidates of an ambiguous search tracked over the next scans (0: none)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_min_frames, "frames of evidence before a candidate is committed by its margin");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_ratio, "[-] commit when every other candidate's summed inliers <= this x the best's");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_consistent_frames, "...or the best was ahead of it on each of this many last frames");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_lead, "[-] ahead on a frame: the alternative's inliers under this x the best's");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_probe_xyz, "[m] a weak translation of the best is probed this far both ways");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_search_every, "a fresh search merged into the candidates every this many frames (0: when empty)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_max_frames, "frames a candidate set is tracked without a commit (then a fresh search)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(track_max_ms, "[ms] per-frame budget for refining candidates");
 }
 
 void RelocalizationParams::validate() const {
@@ -69,6 +87,16 @@ void RelocalizationParams::validate() const {
         throw ConfigError("[relocalization] doubt_max_xyz and doubt_max_deg must be > 0");
     if (out_of_map != "error" && out_of_map != "global")
         throw ConfigError("[relocalization] out_of_map = '" + out_of_map + "' (use error or global)");
+    if (track_candidates < 0) throw ConfigError("[relocalization] track_candidates must be >= 0");
+    if (track_min_frames < 2) throw ConfigError("[relocalization] track_min_frames must be >= 2");
+    if (!(track_ratio > 0 && track_ratio <= 1)) throw ConfigError("[relocalization] track_ratio must be in (0, 1]");
+    if (track_consistent_frames < 2) throw ConfigError("[relocalization] track_consistent_frames must be >= 2");
+    if (!(track_lead > 0 && track_lead <= 1)) throw ConfigError("[relocalization] track_lead must be in (0, 1]");
+    if (!(track_probe_xyz > 0)) throw ConfigError("[relocalization] track_probe_xyz must be > 0");
+    if (track_search_every < 0) throw ConfigError("[relocalization] track_search_every must be >= 0");
+    if (track_max_frames < track_min_frames)
+        throw ConfigError("[relocalization] track_max_frames must be >= track_min_frames");
+    if (!(track_max_ms > 0)) throw ConfigError("[relocalization] track_max_ms must be > 0");
 }
 
 }  // namespace superloc::localization

@@ -87,6 +87,7 @@ class Localizer : public mrpt::system::COutputLogger {
     Method method() const { return method_; }
 
    private:
+    struct Candidate;
     struct Prediction {
         SE3d T_map_imu = SE3d::Identity();
         Vec3d v = Vec3d::Zero();
@@ -123,6 +124,22 @@ class Localizer : public mrpt::system::COutputLogger {
     /// were, with rep.reloc saying why.
     RelocOutcome runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
                                    FrameReport& rep);
+    /// Multi-frame hypothesis tracking (doc/relocalization.md §4), first half: each kept
+    /// candidate is moved by the measured motion since its frame, refined by the fine
+    /// registration as a hypothesis, and its evidence accumulated; those lost or fitting clearly
+    /// worse than the run's reference are dropped. The state is left as it was.
+    void refineCandidates(const Scan& scan, FrameReport& rep);
+    /// Second half, after this frame's search (if any) merged its hypotheses: the best candidate
+    /// clearly and consistently best over the frames is committed (Accepted: rep and the state
+    /// are its own); else the frame is reported lost with the best candidate's pose (Ambiguous),
+    /// or Failed when no candidate is left.
+    RelocOutcome decideCandidates(const Scan& scan, FrameReport& rep);
+    /// Whether each translation the candidate's scan constrains weakly is held all the same:
+    /// probes moved along it come back or fit clearly worse (localizer_candidates.cpp).
+    bool weakAxesHeld(const Scan& scan, const Candidate& c);
+    /// Where a frame lost `lost_run` frames in a row searches: around the last frame not lost
+    /// (local), or nowhere in particular (global: empty).
+    std::optional<reloc::SearchRegion> lostRegion(const Scan& scan, int lost_run) const;
     /// Roll and pitch of the IMU (map z up, no yaw) from its mean specific force over the half
     /// second before t, for a search without an IMU prediction; empty without IMU samples.
     std::optional<Mat3d> gravityFromImu(double t) const;
@@ -149,6 +166,31 @@ class Localizer : public mrpt::system::COutputLogger {
         SE3d T_map_lidar;
     };
     std::optional<GoodFrame> last_good_;
+    /// A pose of an ambiguous relocalization, tracked over the following scans (trackCandidates).
+    struct Candidate {
+        fusion::FrameState state;       ///< at its last frame (time state.t)
+        bool has_velocity = false;      ///< state's velocity measured by the IMU over a tracked frame
+        std::optional<SE3d> T_map_imu_before;  ///< its pose one frame earlier (constant velocity)
+        double t_before = 0;
+        double evidence = 0;            ///< summed inlier ratio over its frames
+        int frames = 0;                 ///< frames of evidence (the search's included)
+        std::vector<double> history;    ///< inlier ratio per frame, the latest last
+        bool ruled_out = false;         ///< judged against the best on the last decision
+        /// per translation axis: constrained by the scan (gamma >= weak_gamma) on one of its
+        /// frames, every frame since moved by measured motion (IMU or odom_alt), which carries it
+        std::array<bool, 3> axis_held{};
+        FrameReport rep;                ///< its last frame's fit
+        HealthChecks checks;            ///< ... and the health checks on it
+        std::vector<fusion::ScanCorrespondence> corr;
+        AssociationStats stats;
+    };
+    std::vector<Candidate> hypotheses_;  ///< the candidates being tracked (none: empty)
+    std::string candidates_trigger_;  ///< the trigger of the search that gave the candidates
+    int candidates_age_ = 0;          ///< frames the set has been tracked
+    double track_ms_ = 0;             ///< [ms] refineCandidates() on this frame
+    int track_dropped_ = 0, track_over_budget_ = 0;  ///< ...candidates it dropped, left out
+    bool track_left_out_ = false;     ///< a hypothesis of this frame's search found the set full
+    int track_judged_ = 0;            ///< candidates of this set dropped (lost, bad fit, ruled out)
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;

@@ -35,6 +35,30 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// an initial pose outside the map's bounds (grown by features.max_range): `error` (one-line
     /// error) or `global` (localize the first scan globally instead)
     std::string out_of_map = "error";
+    /// Multi-frame hypothesis tracking (doc/relocalization.md §4): an ambiguous relocalization
+    /// of a frame without a pose keeps up to this many candidates and tracks each over the next
+    /// scans, accumulating evidence, until one is clearly best; 0: none kept (each scan searches
+    /// afresh)
+    int track_candidates = 10;
+    /// frames of evidence (the search's included) before a candidate may be committed by its margin
+    int track_min_frames = 4;
+    /// [-] commit when every other surviving candidate's summed inlier ratio is at most this x
+    /// the best's (or the best is the only survivor); the best must fit healthily on the frame
+    double track_ratio = 0.9;
+    /// an alternative is also ruled out when the best was ahead of it on each of its last this
+    /// many frames tracked together (consistently best)
+    int track_consistent_frames = 4;
+    /// [-] ahead on a frame: the alternative's inlier ratio under this x the best's (not a tie)
+    double track_lead = 1.0;
+    /// [m] a weak translation of the best candidate is probed this far both ways before a commit
+    double track_probe_xyz = 1.0;
+    /// a fresh search every this many tracked frames, its hypotheses merged into the set as
+    /// candidates (0: only when the set is empty)
+    int track_search_every = 1;
+    /// frames a candidate set is tracked without a commit before it is dropped (a fresh search)
+    int track_max_frames = 20;
+    /// [ms] refinement budget per frame: candidates not refined within it are dropped (worst first)
+    double track_max_ms = 1000;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -55,7 +79,9 @@ const char* relocOutcomeName(RelocOutcome o);
 
 /// What a relocalization did on a frame (FrameReport::reloc).
 struct RelocReport {
-    std::string mode;     ///< "" none, "local" (around the last pose), "global" (whole map)
+    /// "" none, "local" (around the last pose), "global" (whole map), "track" (the candidates of
+    /// an earlier ambiguous search refined on this scan)
+    std::string mode;
     std::string trigger;  ///< "request" (relocalize()), "lost", "doubt" (degraded, in doubt)
     RelocOutcome outcome = RelocOutcome::None;
     std::string detail;   ///< why: "no_hypothesis: ...", "verification", "alternatives+weak_x", ...
@@ -64,6 +90,10 @@ struct RelocReport {
     double search_ms = 0; ///< [ms] global search
     double verify_ms = 0; ///< [ms] fine registrations of the hypotheses
     std::vector<SE3d> alternatives;  ///< T_map_lidar of the other verified poses (ambiguous)
+    /// candidates tracked after this frame (mode "track", or an ambiguous search that kept them)
+    int candidates = 0;
+    /// [-] runner-up candidate's summed evidence / the best's (0: none or one candidate)
+    double evidence_ratio = 0;
 };
 
 }  // namespace superloc::localization
