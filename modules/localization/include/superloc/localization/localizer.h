@@ -181,7 +181,7 @@ class Localizer : public mrpt::system::COutputLogger {
         std::array<bool, 3> axis_held{};
         FrameReport rep;                ///< its last frame's fit
         HealthChecks checks;            ///< ... and the health checks on it
-        std::vector<fusion::ScanCorrespondence> corr;
+        std::vector<Correspondence> corr;
         AssociationStats stats;
     };
     std::vector<Candidate> hypotheses_;  ///< the candidates being tracked (none: empty)
