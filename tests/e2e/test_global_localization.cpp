@@ -346,29 +346,31 @@ TEST(GlobalLocalization, SimCaveTwentyScansAmbiguousNeverWrong) {
 // must be placed right or not at all, no frame ok while wrong. (With track_min_frames = 2 two
 // cave starts of this layout were placed 45 m and 52 m off on their second scan: a margin over
 // wrong candidates when the right one was not among them; 4 frames give the searches time.)
-TEST(GlobalLocalization, SimOfficeStartsPlacedByTrackingCandidates) {
-    const std::string dir = superloc::testing::simulatedSequence("gloc_kidnap_office", "office",
-                                                                 "--set sim.scan_every=5");
+namespace {
+
+// 12 starts of a simulated sequence (one sweep in 5), each given kTrackFrames scans: all placed
+// right, at least `within10` of them within 10 scans, none placed wrong or ok while wrong.
+void expectStartsPlacedByTracking(const std::string& cache, const std::string& world, int within10) {
+    const std::string dir = superloc::testing::simulatedSequence(cache, world, "--set sim.scan_every=5");
     if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
-    const TrackTally t = placedFromStarts("gloc_track_office", readSimItems(dir), 12, kTrackFrames);
+    const TrackTally t = placedFromStarts("gloc_track_" + world, readSimItems(dir), 12, kTrackFrames);
     EXPECT_EQ(t.starts, 12);
     EXPECT_EQ(t.placed_wrong, 0);
     EXPECT_EQ(t.ok_wrong, 0);
-    // measured: 12 of 12 placed right, 10 of them within 10 scans, the last on its 14th; none wrong
     EXPECT_GE(t.placed, 12);
-    EXPECT_GE(t.placedWithin(10), 10);
+    EXPECT_GE(t.placedWithin(10), within10);
+}
+
+}  // namespace
+
+TEST(GlobalLocalization, SimOfficeStartsPlacedByTrackingCandidates) {
+    // measured: 12 of 12 placed right, 10 of them within 10 scans, the last on its 14th; none wrong
+    expectStartsPlacedByTracking("gloc_kidnap_office", "office", 10);
 }
 
 TEST(GlobalLocalization, SimCaveStartsPlacedByTrackingCandidates) {
-    const std::string dir = superloc::testing::simulatedSequence("gloc_track_cave", "cave", "--set sim.scan_every=5");
-    if (dir.empty()) GTEST_SKIP() << "superloc-sim not built";
-    const TrackTally t = placedFromStarts("gloc_track_cave", readSimItems(dir), 12, kTrackFrames);
-    EXPECT_EQ(t.starts, 12);
-    EXPECT_EQ(t.placed_wrong, 0);
-    EXPECT_EQ(t.ok_wrong, 0);
     // measured: 12 of 12 placed right, 11 of them within 10 scans, the last on its 14th; none wrong
-    EXPECT_GE(t.placed, 12);
-    EXPECT_GE(t.placedWithin(10), 11);
+    expectStartsPlacedByTracking("gloc_track_cave", "cave", 11);
 }
 
 // The featureless corridor (as in FeaturelessCorridorIsAmbiguousNotPlaced) at 2 scans a second:

@@ -153,11 +153,15 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // constrain (gamma below the health check's weak_gamma on x, y or z: a corridor's scan fits
     // anywhere along it).
     std::string ambiguous;
-    for (const Outcome& so : standing) {
-        const FrameReport& o = so.rep;
+    // A rival: a pose distinct from the winner's that explains the scan about as well.
+    const auto rivals = [&](const FrameReport& o) {
         const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
                               rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
-        if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
+        return distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio;
+    };
+    for (const Outcome& so : standing) {
+        const FrameReport& o = so.rep;
+        if (rivals(o)) {
             rr.alternatives.push_back(o.T_map_lidar);
             ambiguous = "alternatives";
         }
@@ -166,9 +170,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // one scan's pose is taken only when it beats them as it beats its own hypotheses.
     for (const Candidate& c : hypotheses_) {
         const FrameReport& o = c.rep;
-        const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
-                              rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
-        if (distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio) {
+        if (rivals(o)) {
             rr.alternatives.push_back(o.T_map_lidar);
             if (ambiguous.find("candidates") == std::string::npos)
                 ambiguous += std::string(ambiguous.empty() ? "" : "+") + "candidates";
