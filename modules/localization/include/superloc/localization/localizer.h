@@ -195,6 +195,8 @@ class Localizer : public mrpt::system::COutputLogger {
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;
     bool doubt_ = false;       ///< a frame in doubt was not settled by a search: confirm the next
+    /// the last frame was `ok` or a verified relocalization: its pose can anchor a velocity
+    bool prev_verified_ = false;
     std::shared_ptr<const map::PriorMap> map_;
     std::unique_ptr<NdtRegistration> ndt_;
     AssociationParams assoc_;
