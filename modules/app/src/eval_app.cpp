@@ -65,12 +65,7 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
     std::string source = "command line";
     if (!f.config.empty()) {
         source = f.config;
-        if (!std::filesystem::is_regular_file(source))
-            throw std::invalid_argument("--config " + source + ": no such file");
-        std::ifstream in(source);
-        std::stringstream text;
-        text << in.rdbuf();
-        setIniContent(cfg, text.str(), source);
+        loadIniFile(cfg, source);
     }
     for (const auto& s : f.sets) applyOverride(cfg, s);
     params = loadParams<eval::EvalParams>(cfg, "eval", f.sets.empty() ? source : source + " / --set");

@@ -119,11 +119,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
                       &pose_tum = a.pose_tum;
     const std::vector<std::string>& sets = a.sets;
     const bool dump = a.dump;
-    std::ifstream f(config_path_);
-    if (!f) throw ConfigError(config_path_ + ": cannot read the configuration file");
-    std::stringstream text;
-    text << f.rdbuf();
-    setIniContent(cfg_, text.str(), config_path_);
+    loadIniFile(cfg_, config_path_);
     for (const auto& s : sets) applyOverride(cfg_, s);
     if (!method.empty()) cfg_.write("localization", "method", method);
     if (quiet_) setMinLoggingLevel(mrpt::system::LVL_ERROR);

@@ -87,12 +87,7 @@ MapAppArgs parseMapAppArgs(const std::vector<std::string>& args) {
     mrpt::config::CConfigFileMemory cfg;
     std::string source = "--set";
     if (!a.config.empty()) {
-        if (!std::filesystem::exists(a.config))
-            throw std::runtime_error(a.config + ": no such INI file");
-        std::ifstream in(a.config);
-        std::stringstream text;
-        text << in.rdbuf();
-        setIniContent(cfg, text.str(), a.config);
+        loadIniFile(cfg, a.config);
         source = a.config;
     }
     for (const auto& o : a.overrides) applyOverride(cfg, o);

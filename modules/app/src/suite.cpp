@@ -49,11 +49,8 @@ std::string existing(const fs::path& p, const std::string& what) {
 }  // namespace
 
 SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
-    std::ifstream in(path);
-    if (!in) throw ConfigError(path + ": cannot open suite file");
-    std::stringstream text;
-    text << in.rdbuf();
-    mrpt::config::CConfigFileMemory c(text.str());
+    mrpt::config::CConfigFileMemory c;
+    loadIniFile(c, path, "suite file");
     const fs::path base = fs::absolute(path).parent_path();
     SuiteSpec s;
     s.path = path;

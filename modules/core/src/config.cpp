@@ -6,6 +6,9 @@
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 
 namespace superloc {
 
@@ -90,6 +93,14 @@ void applyOverride(mrpt::config::CConfigFileBase& cfg, const std::string& assign
     cfg.write(
         assignment.substr(0, dot), assignment.substr(dot + 1, eq - dot - 1),
         assignment.substr(eq + 1));
+}
+
+void loadIniFile(mrpt::config::CConfigFileMemory& cfg, const std::string& path, const std::string& what) {
+    std::ifstream in(path);
+    if (!std::filesystem::is_regular_file(path) || !in) throw ConfigError(path + ": cannot open " + what);
+    std::stringstream text;
+    text << in.rdbuf();
+    setIniContent(cfg, text.str(), path);
 }
 
 void setIniContent(mrpt::config::CConfigFileMemory& cfg, const std::string& text,

@@ -12,14 +12,6 @@
 namespace superloc::sim {
 namespace {
 
-std::string readText(const std::string& path, const std::string& what) {
-    std::ifstream in(path);
-    if (!in) throw ConfigError(path + ": cannot open " + what);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 // Prefixes a section-only validate() message with the file name.
 template <class P>
 P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect,
@@ -38,7 +30,7 @@ P load(const mrpt::config::CConfigFileBase& cfg, const std::string& sect,
 SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::string>& overrides) {
     SimConfig c;
     c.source = ini_path;
-    setIniContent(c.ini, readText(ini_path, "the configuration file"), ini_path);
+    loadIniFile(c.ini, ini_path);
     for (const auto& o : overrides) applyOverride(c.ini, o);
 
     std::vector<std::string> sections;
@@ -76,7 +68,7 @@ SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::stri
         if (!std::filesystem::exists(pp))
             throw ConfigError(ini_path + ": [lidar] preset = '" + preset + "': file not found (" +
                               pp.string() + ")");
-        setIniContent(lidar_ini, readText(pp.string(), "the LiDAR preset"), pp.string());
+        loadIniFile(lidar_ini, pp.string(), "the LiDAR preset");
         validateSection(lidar_ini, "lidar", LidarParams(), pp.string());
     }
     std::vector<std::string> keys;

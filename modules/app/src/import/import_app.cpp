@@ -87,11 +87,7 @@ io::RosbagParams loadRosbagParams(const Args& a) {
     std::string source = "command line";
     if (!a.config.empty()) {
         source = a.config;
-        std::ifstream in(a.config);
-        if (!in) throw std::runtime_error("--config " + a.config + ": cannot open");
-        std::stringstream text;
-        text << in.rdbuf();
-        cfg.setContent(text.str());
+        loadIniFile(cfg, a.config);
     }
     for (const auto& s : a.sets) applyOverride(cfg, s);
     return loadParams<io::RosbagParams>(

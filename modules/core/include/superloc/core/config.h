@@ -58,6 +58,11 @@ bool parseBool(const std::string& s, bool& out);
 void setIniContent(mrpt::config::CConfigFileMemory& cfg, const std::string& text,
                    const std::string& source);
 
+/// Reads the INI file `path` into `cfg` (setIniContent: MRPT's parse errors made one line).
+/// A missing or unreadable file (or a folder) is ConfigError "<path>: cannot open <what>".
+void loadIniFile(mrpt::config::CConfigFileMemory& cfg, const std::string& path,
+                 const std::string& what = "the configuration file");
+
 /// Applies "section.key=value" overrides (from --set) to a config, throwing ConfigError with
 /// the offending text when it is not of that form.
 void applyOverride(mrpt::config::CConfigFileBase& cfg, const std::string& assignment);
