@@ -20,7 +20,6 @@ using namespace superloc;
 using namespace superloc::fusion;
 
 namespace {
-constexpr double kDeg = M_PI / 180;
 
 // Corridor along x: walls y = -2 / 2, floor z = -1, ceiling z = 2 (map frame), open ends.
 struct Plane {

@@ -1,4 +1,5 @@
 // PriorMap: normals of synthetic surfaces, orientation, kd-tree queries, edge cases.
+#include <superloc/core/se3.h>
 #include <superloc/map/prior_map.h>
 #include <superloc_testing/testing.h>
 
@@ -12,7 +13,6 @@ using namespace superloc::map;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 double angleBetweenLines(const Vec3f& a, const Vec3f& b) {
     const double c = std::abs(a.cast<double>().normalized().dot(b.cast<double>().normalized()));

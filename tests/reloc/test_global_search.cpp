@@ -20,7 +20,6 @@ using superloc::testing::scanFrom;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 // What the search itself must reach for a fine ICP to converge from it: a search cell with its
 // dilation (0.25 m) and a yaw step (1.5 deg). The synthetic floor lies exactly on a voxel face of
 // the registration voxel map (z = 0), where half the floor points find no voxel, so the

@@ -16,7 +16,6 @@ using namespace superloc::reloc;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180;
 
 struct Tally {
     int scans = 0, top1 = 0, in_top_k = 0, wrong_flagged = 0, wrong_confident = 0;

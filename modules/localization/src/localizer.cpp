@@ -29,7 +29,6 @@ double threadCpuMs() {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
-constexpr double kDeg = M_PI / 180.0;
 constexpr size_t kMinCorrespondences = 10;
 }  // namespace
 
@@ -149,6 +148,10 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
 void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, bool from_hypothesis) {
     const auto& lp = params_.loc;
     const fusion::FrameState prev_saved = prev_;
+    // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve);
+    // its pose is set to each round's association pose where the policy is asked.
+    FusionFrame fusion_frame;
+    if (!from_hypothesis) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
     const int rounds = wide ? lp.rounds_init : lp.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
@@ -199,8 +202,10 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
                                                          params_.risk);
             rep.setRisk(risk);
-            if (!from_hypothesis)
-                prior = variant_.fusion->prior(fusionFrame(T_before, prev_saved.T_map_imu()), risk);
+            if (!from_hypothesis) {
+                fusion_frame.T_map_imu = T_before;
+                prior = variant_.fusion->prior(fusion_frame, risk);
+            }
             rep.ms.risk += msSince(t0);
         }
         if (corr_.size() < kMinCorrespondences && !pre) {
@@ -240,8 +245,8 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         }
         if (!from_hypothesis) {  // the method's odom_alt fusion may amend the round's solution
             const SE3d T_solved = cur_.T_map_imu();
-            const SE3d T_kept = variant_.fusion->afterRound(fusionFrame(T_before, prev_saved.T_map_imu()), T_before,
-                                                            scan, T_solved, rep);
+            fusion_frame.T_map_imu = T_before;
+            const SE3d T_kept = variant_.fusion->afterRound(fusion_frame, T_before, scan, T_solved, rep);
             if (T_kept.matrix() != T_solved.matrix()) cur_.setPose(T_kept);
         }
         const SE3d T_after = cur_.T_map_imu();

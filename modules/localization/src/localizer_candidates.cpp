@@ -15,7 +15,6 @@
 
 namespace superloc::localization {
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 using Clock = SteadyClock;
 }  // namespace
 
@@ -39,15 +38,7 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
     // Best evidence first: under the time budget the weakest are the ones left out.
     std::sort(hypotheses_.begin(), hypotheses_.end(),
               [](const Candidate& a, const Candidate& b) { return a.evidence > b.evidence; });
-    const fusion::FrameState own_state = cur_;
-    const auto own_corr = corr_;
-    const AssociationStats own_stats = last_stats_;
-    const SE3d own_T = last_T_map_lidar_;
-    FrameReport base = rep;
-    base.diverged = false;
-    base.diverged_reason.clear();
-    base.converged = false;
-    base.rounds = base.iterations = 0;
+    const Solution own = solution();
     const auto t0 = Clock::now();
     std::vector<Candidate> kept;
     int& dropped = track_dropped_;
@@ -83,23 +74,12 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
         }
         // Refined as a hypothesis of the search is verified (voxel map from its 1 m level, no
         // prior), inliers measured as tracking measures them.
-        cur_ = c.state;
-        cur_.t = scan.t;
-        cur_.setPose(T_pred);
-        FrameReport r = base;
-        r.used_imu = imu_predicted;
-        r.T_map_lidar_pred = T_pred * scan.T_imu_lidar;
-        solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
-        if (!assoc_.voxel) {
-            const auto ta = Clock::now();
-            associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
-            r.ms.associate += msSince(ta);
-        }
-        Prediction p;
-        p.T_map_imu = T_pred;
-        finish(scan, p, true, r);
-        r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
-        r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
+        fusion::FrameState start = c.state;
+        start.setPose(T_pred);
+        FrameReport base = rep;
+        base.used_imu = imu_predicted;
+        base.T_map_lidar_pred = T_pred * scan.T_imu_lidar;
+        FrameReport r = refineHypothesis(scan, start, base);
         HealthChecks checks;
         std::string why;
         const Health h = health_.classify(r, &why, &checks);
@@ -152,15 +132,11 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
     hypotheses_.clear();
     for (Candidate& c : kept) {
         const bool same = std::any_of(hypotheses_.begin(), hypotheses_.end(), [&](const Candidate& o) {
-            return translationDistance(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_xyz &&
-                   rotationAngle(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_deg * kDeg;
+            return rp.samePlace(c.rep.T_map_lidar, o.rep.T_map_lidar);
         });
         if (!same) hypotheses_.push_back(std::move(c));
     }
-    cur_ = own_state;
-    corr_ = own_corr;
-    last_stats_ = own_stats;
-    last_T_map_lidar_ = own_T;
+    restore(own);
 }
 
 bool Localizer::weakAxesHeld(const Scan& scan, const Candidate& c) {
@@ -171,27 +147,15 @@ bool Localizer::weakAxesHeld(const Scan& scan, const Candidate& c) {
     // the candidate's inlier ratio). Along a featureless corridor a probe stays where it was put
     // and fits as well: not held.
     const auto& rp = params_.relocalization;
-    const fusion::FrameState own_state = cur_;
-    const auto own_corr = corr_;
-    const AssociationStats own_stats = last_stats_;
-    const SE3d own_T = last_T_map_lidar_;
+    const Solution own = solution();
     bool held = true;
     const SE3d T_c = c.state.T_map_imu();
     for (int k = 0; k < 3 && held; ++k) {
         if (!c.checks.weak[k]) continue;
         for (const double sign : {-1.0, 1.0}) {
-            cur_ = c.state;
-            cur_.setPose(SE3d(Eigen::Translation3d(T_c.linear().col(k) * sign * rp.track_probe_xyz)) * T_c);
-            FrameReport r = c.rep;
-            r.diverged = false;
-            r.diverged_reason.clear();
-            r.converged = false;
-            r.rounds = r.iterations = 0;
-            solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
-            if (!assoc_.voxel) associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
-            Prediction p;
-            p.T_map_imu = cur_.T_map_imu();
-            finish(scan, p, true, r);
+            fusion::FrameState start = c.state;
+            start.setPose(SE3d(Eigen::Translation3d(T_c.linear().col(k) * sign * rp.track_probe_xyz)) * T_c);
+            const FrameReport r = refineHypothesis(scan, start, c.rep);
             const double back = translationDistance(r.T_map_lidar, c.rep.T_map_lidar);
             const bool worse = r.diverged || r.inlier_ratio < rp.track_ratio * c.rep.inlier_ratio;
             MRPT_LOG_DEBUG_FMT("  probe %s%c %.1f m: back to %.2f m, inliers %.3f vs %.3f", sign < 0 ? "-" : "+",
@@ -202,10 +166,7 @@ bool Localizer::weakAxesHeld(const Scan& scan, const Candidate& c) {
             }
         }
     }
-    cur_ = own_state;
-    corr_ = own_corr;
-    last_stats_ = own_stats;
-    last_T_map_lidar_ = own_T;
+    restore(own);
     return held;
 }
 
@@ -308,10 +269,7 @@ RelocOutcome Localizer::decideCandidates(const Scan& scan, FrameReport& rep) {
         }
         return rr.outcome;
     }
-    cur_ = best.state;
-    corr_ = best.corr;
-    last_stats_ = best.stats;
-    last_T_map_lidar_ = best.rep.T_map_lidar;
+    restore({best.state, best.corr, best.stats, best.rep.T_map_lidar});
     rr.outcome = RelocOutcome::Accepted;
     rr.detail = mrpt::format("frames:%d", best.frames) + budget;
     const StageTimes ms = rep.ms;

@@ -13,7 +13,6 @@
 
 namespace superloc::localization {
 namespace {
-constexpr double kDeg = M_PI / 180.0;
 using Clock = SteadyClock;
 }  // namespace
 
@@ -31,6 +30,37 @@ std::optional<Mat3d> Localizer::gravityFromImu(double t) const {
     if (std::abs(g - params_.imu.gravity) > 0.2 * params_.imu.gravity) return std::nullopt;  // not gravity-dominated
     // R_level_imu: the rotation (no yaw) taking the measured up direction onto the map's z.
     return Mat3d(Eigen::Quaterniond::FromTwoVectors(f / g, Vec3d::UnitZ()).toRotationMatrix());
+}
+
+void Localizer::restore(const Solution& s) {
+    cur_ = s.state;
+    corr_ = s.corr;
+    last_stats_ = s.stats;
+    last_T_map_lidar_ = s.T_map_lidar;
+}
+
+FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base) {
+    FrameReport r = base;
+    r.diverged = false;
+    r.diverged_reason.clear();
+    r.converged = false;
+    r.rounds = r.iterations = 0;
+    cur_ = start;
+    cur_.t = scan.t;
+    solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
+    if (!assoc_.voxel) {
+        // Inliers measured as tracking measures them, so that the refined poses compare with
+        // the frame's own solve (the two associations count inliers differently).
+        const auto ta = Clock::now();
+        associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+        r.ms.associate += msSince(ta);
+    }
+    Prediction p;  // no IMU prediction: finished unchecked, velocity by finite difference
+    p.T_map_imu = start.T_map_imu();
+    finish(scan, p, true, r);
+    r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
+    r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
+    return r;
 }
 
 RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
@@ -63,17 +93,9 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // coarse start, no prior, no jump check), then the health checks.
     struct Outcome {
         FrameReport rep;
-        fusion::FrameState state;
-        std::vector<Correspondence> corr;
-        AssociationStats stats;
-        SE3d T_map_lidar;
+        Solution sol;
     };
-    const Outcome own{rep, cur_, corr_, last_stats_, last_T_map_lidar_};
-    FrameReport base = rep;
-    base.diverged = false;
-    base.diverged_reason.clear();
-    base.converged = false;
-    base.rounds = base.iterations = 0;
+    const Outcome own{rep, solution()};
     std::vector<Outcome> verified;
     // Every attempt that is not lost, settled or not: an alternative that fits about as well
     // but did not settle in its rounds is no evidence against it (look-alike rooms).
@@ -88,26 +110,10 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
     const double ref = health_.reference();
     for (size_t i = 0; i < n; ++i) {
-        const SE3d T_start = found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse();
-        cur_ = fusion::FrameState{};
-        cur_.t = scan.t;
-        cur_.setBias(prev_.bias());
-        cur_.setPose(T_start);
-        FrameReport r = base;
-        solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
-        if (!assoc_.voxel) {
-            // Inliers measured as tracking measures them, so that the verified poses compare
-            // with the frame's own solve (the two associations count inliers differently).
-            const auto ta = Clock::now();
-            associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
-            r.ms.associate += msSince(ta);
-        }
-        Prediction p = pred;
-        p.T_map_imu = T_start;
-        p.used_imu = false;
-        finish(scan, p, true, r);
-        r.pred_dxyz = translationDistance(r.T_map_lidar, rep.T_map_lidar_pred);
-        r.pred_ddeg = rotationAngle(r.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+        fusion::FrameState start;
+        start.setBias(prev_.bias());
+        start.setPose(found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse());
+        const FrameReport r = refineHypothesis(scan, start, rep);
         std::string why;
         HealthChecks c;
         const Health h = health_.classify(r, &why, &c);
@@ -117,8 +123,8 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         // ratio under 0.9 x the reference, was taken when the right one was outside the region).
         const bool fits = !c.not_converged && h != Health::Lost && !c.badFit() &&
                           (ref > 0 || r.inlier_ratio >= rp.accept_inlier_ratio);
-        if (fits) verified.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
-        if (h != Health::Lost) standing.push_back({r, cur_, corr_, last_stats_, last_T_map_lidar_});
+        if (fits) verified.push_back({r, solution()});
+        if (h != Health::Lost) standing.push_back({r, solution()});
         const Vec3d& x = r.T_map_lidar.translation();
         MRPT_LOG_DEBUG_FMT("hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
                            found.hypotheses[i].score, x.x(), x.y(), x.z(),
@@ -127,12 +133,6 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     }
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
-    const auto restore = [&](const Outcome& o) {
-        cur_ = o.state;
-        corr_ = o.corr;
-        last_stats_ = o.stats;
-        last_T_map_lidar_ = o.T_map_lidar;
-    };
     const StageTimes ms = rep.ms;
     const auto report = [&](FrameReport& r) {
         r.ms = ms;
@@ -140,7 +140,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         r.reloc = rr;
     };
     if (verified.empty()) {
-        restore(own);
+        restore(own.sol);
         rr.detail = "verification";
         report(rep);
         return rr.outcome;
@@ -155,9 +155,8 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     std::string ambiguous;
     // A rival: a pose distinct from the winner's that explains the scan about as well.
     const auto rivals = [&](const FrameReport& o) {
-        const bool distinct = translationDistance(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_xyz ||
-                              rotationAngle(o.T_map_lidar, best.rep.T_map_lidar) > rp.distinct_deg * kDeg;
-        return distinct && o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio;
+        return !rp.samePlace(o.T_map_lidar, best.rep.T_map_lidar) &&
+               o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio;
     };
     for (const Outcome& so : standing) {
         const FrameReport& o = so.rep;
@@ -184,7 +183,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         // its alternatives. A frame without a pose (lost, or relocalize()) keeps every attempt
         // that stands as a candidate, tracked over the next scans (trackCandidates); else, or
         // with track_candidates = 0, the next scan searches again.
-        restore(own);
+        restore(own.sol);
         rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = ambiguous;
         rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
@@ -200,8 +199,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                       [](const Outcome& a, const Outcome& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
             for (const Outcome& o : standing) {
                 const bool same = std::any_of(hypotheses_.begin(), hypotheses_.end(), [&](const Candidate& c) {
-                    return translationDistance(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_xyz &&
-                           rotationAngle(c.rep.T_map_lidar, o.rep.T_map_lidar) <= rp.distinct_deg * kDeg;
+                    return rp.samePlace(c.rep.T_map_lidar, o.rep.T_map_lidar);
                 });
                 if (same) continue;
                 // While tracking: one that fits this scan clearly worse than the best tracked
@@ -223,15 +221,15 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                     ++track_judged_;
                 }
                 Candidate c;
-                c.state = o.state;
+                c.state = o.sol.state;
                 c.evidence = o.rep.inlier_ratio;
                 c.history.push_back(o.rep.inlier_ratio);
                 c.frames = 1;
                 c.rep = o.rep;
                 health_.classify(o.rep, nullptr, &c.checks);
                 for (int k = 0; k < 3; ++k) c.axis_held[k] = !c.checks.weak[k];
-                c.corr = o.corr;
-                c.stats = o.stats;
+                c.corr = o.sol.corr;
+                c.stats = o.sol.stats;
                 hypotheses_.push_back(std::move(c));
             }
             if (!tracking) candidates_trigger_ = rr.trigger;
@@ -250,26 +248,26 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         // a pose that far from its own solve is another floor or another corridor (multifloor:
         // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus), and
         // so may an IMU chain that started from such a frame (imu_chain_).
-        restore(own);
+        restore(own.sol);
         rr.outcome = RelocOutcome::TooFar;
         report(rep);
         return rr.outcome;
     }
     if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
         // The frame's own solve stands (a suspicious frame the search could not better).
-        restore(own);
+        restore(own.sol);
         rr.outcome = RelocOutcome::NotBetter;
         report(rep);
         return rr.outcome;
     }
-    restore(best);
+    restore(best.sol);
     if (!own.rep.diverged && own.rep.health != Health::Lost) {
         // A frame in doubt was tracked: its velocity (IMU-integrated, or constant velocity) is
         // the platform's, in a frame rotated by the correction. The verification solved from
         // rest, so carry it over (a dropout over an IMU gap: 0.63 m off on the next frame
         // without).
         const Mat3d R_corr = best.rep.T_map_lidar.linear() * own.rep.T_map_lidar.linear().transpose();
-        cur_.setVelocity(R_corr * own.state.velocity());
+        cur_.setVelocity(R_corr * own.sol.state.velocity());
     }
     rep = best.rep;
     rr.outcome = RelocOutcome::Accepted;

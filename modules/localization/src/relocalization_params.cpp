@@ -1,5 +1,6 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <superloc/core/config.h>
+#include <superloc/core/se3.h>
 #include <superloc/localization/relocalization.h>
 
 namespace superloc::localization {
@@ -66,6 +67,10 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_search_every, "a fresh search merged into the candidates every this many frames (0: when empty)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_max_frames, "frames a candidate set is tracked without a commit (then a fresh search)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_max_ms, "[ms] per-frame budget for refining candidates");
+}
+
+bool RelocalizationParams::samePlace(const SE3d& a, const SE3d& b) const {
+    return translationDistance(a, b) <= distinct_xyz && rotationAngle(a, b) <= distinct_deg * kDeg;
 }
 
 void RelocalizationParams::validate() const {

@@ -2,6 +2,7 @@
 // point-to-plane refinement per hypothesis (doc/relocalization.md).
 #include <superloc/core/voxel.h>
 #include <superloc/map/prior_map.h>
+#include <superloc/core/se3.h>
 #include <superloc/reloc/global_search.h>
 
 #include <algorithm>
@@ -14,7 +15,6 @@ namespace superloc::reloc {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
 
 double wrapAngle(double a) {
     a = std::fmod(a + M_PI, 2 * M_PI);

@@ -3,7 +3,12 @@
 
 #include <superloc/core/types.h>
 
+#include <cmath>
+
 namespace superloc {
+
+/// Radians per degree (INI angles are in degrees).
+inline constexpr double kDeg = M_PI / 180.0;
 
 /// Skew-symmetric matrix [v]x such that [v]x w = v x w.
 Mat3d skew(const Vec3d& v);

@@ -118,6 +118,22 @@ class Localizer : public mrpt::system::COutputLogger {
     std::optional<SE3d> odomAltForFrame() const;
     /// odom_alt's reported covariance interpolated at t, when its samples carry one.
     std::optional<Mat6d> odomAltCovAt(double t) const;
+    /// What trying another pose for the current scan overwrites: the state, the correspondences,
+    /// their statistics and the LiDAR pose. Saved before a verification, restored after.
+    struct Solution {
+        fusion::FrameState state;
+        std::vector<Correspondence> corr;
+        AssociationStats stats;
+        SE3d T_map_lidar = SE3d::Identity();
+    };
+    Solution solution() const { return {cur_, corr_, last_stats_, last_T_map_lidar_}; }
+    void restore(const Solution& s);
+    /// A pose refined as the search's hypotheses are verified (localizer_relocalize.cpp): the
+    /// state `start` at the scan's time, the fine registration from the voxel map's 1 m level
+    /// without prior, inliers measured as tracking measures them, finished without a jump
+    /// check, pred_dxyz / pred_ddeg against base.T_map_lidar_pred. `base` is the frame's report
+    /// so far (its solve results are reset). Leaves the Solution at the refined pose.
+    FrameReport refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base);
     /// Relocalization on the current scan (localizer_relocalize.cpp): search (in `region`, or
     /// everywhere), verify the best hypotheses, commit the winner when it is unambiguous. On
     /// success rep and the state are the winner's (velocity unknown); else both stay as they

@@ -63,6 +63,8 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
     void validate() const;
+    /// Two poses within distinct_xyz and distinct_deg of each other: one place, not two.
+    bool samePlace(const SE3d& a, const SE3d& b) const;
 };
 
 /// How a relocalization ended.
