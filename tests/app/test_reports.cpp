@@ -82,6 +82,31 @@ TEST(FrameLog, ReadsTheLocalizerCsv) {
     EXPECT_TRUE(std::isnan(g[2]));
 }
 
+// The three rule columns (flags_labels1, flags_labels2, flags_eigen) are read when all are
+// there; an unknown letter names the column.
+TEST(FrameLog, ReadsTheRuleColumns) {
+    const std::string dir = superloc::testing::freshDir("eval_frame_log_rules");
+    const std::string path = dir + "/frames.csv";
+    {
+        std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n"
+                            << "1,10,xyaw,x,\n2,10,,,rollpitch\n";
+    }
+    const FrameLog log = loadFrameLog(path);
+    ASSERT_TRUE(log.has_rules);
+    ASSERT_EQ(log.frames.size(), 2u);
+    EXPECT_EQ(log.frames[0].rule_flags[0], parseDegenerateAxes("xyaw"));
+    EXPECT_EQ(log.frames[0].rule_flags[1], parseDegenerateAxes("x"));
+    EXPECT_EQ(log.frames[0].rule_flags[2], parseDegenerateAxes(""));
+    EXPECT_EQ(log.frames[1].rule_flags[2], parseDegenerateAxes("rollpitch"));
+    { std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n1,10,x,q,\n"; }
+    try {
+        loadFrameLog(path);
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path + ":2: column 'flags_labels2'"), std::string::npos) << e.what();
+    }
+}
+
 TEST(FrameLog, ErrorsNameFileAndLine) {
     const std::string dir = superloc::testing::freshDir("eval_frame_log_bad");
     const std::string path = dir + "/frames.csv";

@@ -3,6 +3,7 @@
 #include <superloc/eval/evaluation.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 using namespace superloc;
 using namespace superloc::eval;
@@ -173,4 +174,51 @@ TEST(Metrics, NoMatchedFrames) {
     EXPECT_DOUBLE_EQ(r.rp.area, 0.0);
     EXPECT_NE(summaryMarkdown(r).find("no estimate within the time tolerance"), std::string::npos);
     EXPECT_DOUBLE_EQ(evaluate({}, gt, EvalParams{}).rr.area, 0.0);
+}
+
+// Risk as a failure predictor, hand-counted. Ten frames heading +90 deg yaw (body x = map y):
+// frames 0-4 are 0.3 m off along map y, i.e. along body x (failed along x); frame 9 is 2 deg
+// off in yaw. Rule labels1 flags x on frames 0, 1, 2 and 5: x: tp 3, fp 1, fn 2, tn 4 ->
+// precision 0.75, recall 0.6. Rule eigen flags yaw on frame 9 only: yaw precision = recall = 1.
+// Rule labels2 flags nothing: precision undefined, recall 0 on x.
+TEST(RiskPrediction, HandCounted) {
+    Trajectory gt, est;
+    eval::FrameLog log;
+    for (int i = 0; i < 10; ++i) {
+        gt.push_back({0.1 * i, makePoseRPY(i, 0, 0, 0, 0, M_PI / 2), {}});
+        est.push_back({0.1 * i, makePoseRPY(i, i < 5 ? 0.3 : 0.0, 0, 0, 0, M_PI / 2 + (i == 9 ? 2 * kDeg : 0)), {}});
+        eval::FrameRecord f;
+        f.t = 0.1 * i;
+        f.rule_flags[0][0] = i <= 2 || i == 5;
+        f.rule_flags[2][5] = i == 9;
+        log.frames.push_back(f);
+    }
+    log.has_rules = true;
+    const EvalParams prm;
+    const RiskPrediction p = riskPrediction(est, gt, log, prm);
+    EXPECT_EQ(p.frames, 10u);
+    const auto& x = p.counts[0][0];
+    EXPECT_EQ(x.tp, 3u);
+    EXPECT_EQ(x.fp, 1u);
+    EXPECT_EQ(x.fn, 2u);
+    EXPECT_EQ(x.tn, 4u);
+    EXPECT_DOUBLE_EQ(x.precision(), 0.75);
+    EXPECT_DOUBLE_EQ(x.recall(), 0.6);
+    // Nothing failed along y (body y = map -x) or z.
+    EXPECT_EQ(p.counts[0][1].tp + p.counts[0][1].fn, 0u);
+    EXPECT_TRUE(std::isnan(p.counts[0][1].recall()));
+    EXPECT_DOUBLE_EQ(p.counts[2][5].precision(), 1.0);
+    EXPECT_DOUBLE_EQ(p.counts[2][5].recall(), 1.0);
+    EXPECT_TRUE(std::isnan(p.counts[1][0].precision()));
+    EXPECT_DOUBLE_EQ(p.counts[1][0].recall(), 0.0);
+    // Sums over runs; the Markdown and JSON forms carry the same numbers.
+    RiskPrediction twice = p;
+    twice += p;
+    EXPECT_EQ(twice.counts[0][0].tp, 6u);
+    EXPECT_EQ(twice.frames, 20u);
+    EXPECT_NE(riskPredictionMarkdown(p).find("| γ, 1 rotation label | 0.75 / 0.60 |"), std::string::npos)
+        << riskPredictionMarkdown(p);
+    const auto j = toJson(p);
+    EXPECT_EQ(j["flags_labels1"]["x"]["fn"].get<size_t>(), 2u);
+    EXPECT_DOUBLE_EQ(j["flags_labels1"]["x"]["precision"].get<double>(), 0.75);
 }

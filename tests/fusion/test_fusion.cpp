@@ -4,7 +4,6 @@
 #include <superloc/fusion/imu_factor.h>
 #include <superloc/fusion/pose_prior_factor.h>
 #include <superloc/fusion/relative_pose_factor.h>
-#include <superloc/fusion/speed_bias_prior_factor.h>
 #include <superloc/fusion/pose_manifold.h>
 #include <superloc/fusion/scan_factor.h>
 
@@ -170,4 +169,90 @@ TEST(RobustKernel, WeightsAndNames) {
     EXPECT_DOUBLE_EQ(robustWeight(RobustKernel::Cauchy, 0.1, 0.1), 0.5);
     EXPECT_EQ(robustKernelFromString("cauchy"), RobustKernel::Cauchy);
     EXPECT_THROW(robustKernelFromString("tukey"), std::invalid_argument);
+}
+
+namespace {
+/// 0.1 s of IMU at rest-level specific force (no motion), the previous state at the origin.
+imu::Preintegration stillImu() {
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 100; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.001);
+    return pre;
+}
+Mat15d covarianceOf(const StatePrior& p) {
+    const Mat15d info = p.sqrt_info.transpose() * p.sqrt_info;
+    return info.inverse();
+}
+}  // namespace
+
+// The marginal of an IMU-only window, checked against linear propagation by hand: the previous
+// state is held by the fixed priors (position 2 cm, velocity 0.5 m/s per axis), the IMU says
+// "no motion" over dt = 0.1 s with little noise, so the current position's variance per axis is
+// sigma_p^2 + dt^2 sigma_v^2 = 4e-4 + 2.5e-3 = 2.9e-3 m^2 and the velocity's sigma_v^2 = 0.25
+// (the attitude prior, 0.2 deg, adds g * 3.5e-3 * dt to the velocity: 1e-5 in variance).
+TEST(FrameProblem, MarginalOfAnImuWindowMatchesPropagationByHand) {
+    const imu::Preintegration pre = stillImu();
+    FrameState prev, cur;
+    cur.t = 0.1;
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.imu = &pre;
+    in.marginalize = true;
+    FusionParams p;
+    const auto s = solveFrame(in, p);
+    ASSERT_TRUE(s.usable);
+    ASSERT_TRUE(s.marginal.has_value());
+    const Mat15d C = covarianceOf(*s.marginal);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(C(k, k), 2.9e-3, 0.05 * 2.9e-3) << k;
+        EXPECT_NEAR(C(6 + k, 6 + k), 0.25, 0.02 * 0.25) << k;
+        // Position and velocity are correlated: cov(p, v) = dt sigma_v^2 = 0.025.
+        EXPECT_NEAR(C(k, 6 + k), 0.025, 0.05 * 0.025) << k;
+    }
+    // Without marginalize, none.
+    in.marginalize = false;
+    EXPECT_FALSE(solveFrame(in, p).marginal.has_value());
+}
+
+// A scan that sees only walls along x (normals y and z): the marginal keeps what the IMU window
+// knows along x (variance as without the scan) and is sure along y and z; carried into the next
+// frame's window as its previous state's prior, it lets the IMU velocity through along x.
+TEST(FrameProblem, MarginalIsLooseAlongTheAxisTheScanMisses) {
+    const SE3d T_true = SE3d::Identity();
+    std::vector<Correspondence> walls;
+    for (const auto& c : boxRoom(T_true, 800, 4))
+        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) walls.push_back(c);
+    ASSERT_GT(walls.size(), 100u);
+    ScanFactor scan(walls, 0.05);
+    const imu::Preintegration pre = stillImu();
+    FrameState prev, cur;
+    cur.t = 0.1;
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.imu = &pre;
+    in.scan = &scan;
+    in.marginalize = true;
+    FusionParams p;
+    const auto s = solveFrame(in, p);
+    ASSERT_TRUE(s.marginal.has_value());
+    const Mat15d C = covarianceOf(*s.marginal);
+    EXPECT_NEAR(C(0, 0), 2.9e-3, 0.05 * 2.9e-3);
+    EXPECT_LT(C(1, 1), 3e-5);  // 0.05^2 / ~200 wall residuals per axis
+    EXPECT_LT(C(2, 2), 3e-5);
+    // Next frame: the state carried with its marginal, not the fixed 2 cm sigma.
+    FrameState prev2 = cur, cur2 = cur;
+    cur2.t = 0.2;
+    FrameProblemInputs in2 = in;
+    in2.prev = &prev2;
+    in2.cur = &cur2;
+    in2.prev_prior = &*s.marginal;
+    const auto s2 = solveFrame(in2, p);
+    ASSERT_TRUE(s2.marginal.has_value());
+    const Mat15d C2 = covarianceOf(*s2.marginal);
+    // x grows by dt^2 sigma_v^2 (the velocity is still only known from the first prior) plus
+    // the cross terms: var(p + dt v) = 2.9e-3 + 2 dt 0.025 + dt^2 0.25 = 1.04e-2; the fixed
+    // prior would have reset it to 2.9e-3.
+    EXPECT_NEAR(C2(0, 0), 1.04e-2, 0.05 * 1.04e-2);
+    EXPECT_LT(C2(1, 1), 3e-5);
 }

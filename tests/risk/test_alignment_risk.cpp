@@ -118,6 +118,40 @@ TEST(AlignmentRisk, ZeroLeverArmHasNoRotationLabel) {
     EXPECT_EQ(r.gamma.tail<3>().sum(), 0.0);
 }
 
+// The three failure-prediction rules come from the same correspondences whatever
+// rotation_labels selects: the single correspondence above has one rotation label (roll) and a
+// second (yaw), so labels1 flags pitch and yaw, labels2 pitch only; its translation block is
+// n n^T with n = y (x, z flagged by both labels and eigenvalues). Its rotation block is the one
+// torque direction (-2, 0, 1)/sqrt5: the degenerate subspace is the plane orthogonal to it,
+// projector diagonal 1 - (4/5, 0, 1/5) = (0.2, 1, 0.8): pitch and yaw flagged, roll not.
+TEST(AlignmentRisk, RuleFlagsFromTheSameCorrespondences) {
+    const std::vector<Correspondence> cs = {corr({1, 0, 2}, {0, 1, 0})};
+    for (int labels : {1, 2}) {
+        RiskParams p;
+        p.rotation_labels = labels;
+        const auto r = computeAlignmentRisk(cs, p);
+        EXPECT_EQ(axisLetters(r.rules.labels1), "xzpitchyaw");
+        EXPECT_EQ(axisLetters(r.rules.labels2), "xzpitch");
+        EXPECT_EQ(axisLetters(r.rules.eigen), "xzpitchyaw");
+        EXPECT_EQ(r.degenerate, labels == 1 ? r.rules.labels1 : r.rules.labels2);
+    }
+}
+
+// Corridor: every rule flags x and only x; a box room: no rule flags anything; no
+// correspondence: every rule flags every axis.
+TEST(AlignmentRisk, RulesAgreeOnCorridorRoomAndNothing) {
+    const auto corridor = computeAlignmentRisk(castScene({{1, -1.5}, {1, 1.6}, {2, -1.2}, {2, 1.4}}), RiskParams{});
+    EXPECT_EQ(axisLetters(corridor.rules.labels1), "x");
+    EXPECT_EQ(axisLetters(corridor.rules.labels2), "x");
+    EXPECT_EQ(axisLetters(corridor.rules.eigen), "x");
+    const auto room = computeAlignmentRisk(
+        castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}}), RiskParams{});
+    for (const auto& f : {room.rules.labels1, room.rules.labels2, room.rules.eigen}) EXPECT_EQ(axisLetters(f), "");
+    const auto none = computeAlignmentRisk({}, RiskParams{});
+    for (const auto& f : {none.rules.labels1, none.rules.labels2, none.rules.eigen})
+        EXPECT_EQ(axisLetters(f), "xyzrollpitchyaw");
+}
+
 // An infinite floor 1.8 m below the sensor: every normal is z; p x n = (y, -x, 0) never has a
 // yaw part. Degenerate: x, y, yaw. Healthy: z, roll, pitch.
 class SceneTest : public ::testing::TestWithParam<int> {

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <map>
 
 namespace superloc::app {
 namespace {
@@ -147,6 +148,29 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
             const auto& h = *r.result->health;
             md += "| " + r.sequence + " | " + r.method + " | " + cells(h.counts[0]) + " | " + cells(h.counts[1]) +
                   " | " + cells(h.counts[2]) + " | " + std::to_string(h.confidentlyWrong()) + " |\n";
+        }
+    }
+    // Risk as a failure predictor, per method over all its sequences (eval::riskPrediction).
+    std::vector<std::string> risk_methods;
+    std::map<std::string, eval::RiskPrediction> risk_sum;
+    for (const auto& r : runs) {
+        if (!r.result || !r.result->risk) continue;
+        if (!risk_sum.count(r.method)) risk_methods.push_back(r.method);
+        risk_sum[r.method] += *r.result->risk;
+    }
+    if (!risk_methods.empty()) {
+        md +=
+            "\n## Risk as a failure predictor\n\nPer method, over all its sequences: for each rule "
+            "(frames.csv flags_*) and axis, precision / recall of the flag for a frame whose error "
+            "along that body axis exceeds [eval] risk_fail_xyz / risk_fail_deg (doc/evaluation.md). "
+            "Failed frames per axis in the last row.\n";
+        for (const auto& m : risk_methods) {
+            const auto& p = risk_sum[m];
+            md += "\n" + m + " (" + std::to_string(p.frames) + " frames):\n\n" + eval::riskPredictionMarkdown(p);
+            md += "| failed frames |";
+            for (int k = 0; k < 6; ++k)
+                md += " " + std::to_string(p.counts[0][k].tp + p.counts[0][k].fn) + " |";
+            md += "\n";
         }
     }
     md +=

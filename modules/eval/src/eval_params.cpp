@@ -12,6 +12,8 @@ void EvalParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, cons
     MRPT_LOAD_CONFIG_VAR(map_voxel, double, c, s);
     MRPT_LOAD_CONFIG_VAR(outlier_threshold, double, c, s);
     MRPT_LOAD_CONFIG_VAR(robustness_bins, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(risk_fail_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(risk_fail_deg, double, c, s);
 }
 
 void EvalParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -24,6 +26,8 @@ void EvalParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::s
                                  "[m] map point farther than this from GT = outlier");
     MRPT_SAVE_CONFIG_VAR_COMMENT(robustness_bins,
                                  "[-] bins of T in [0,1] for Rp/Rr, tau = exp(-10 T)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(risk_fail_xyz, "[m] error along a body axis that counts as a failure (risk table)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(risk_fail_deg, "[deg] rotation error about a body axis that counts as a failure");
 }
 
 void EvalParams::validate() const {
@@ -33,6 +37,10 @@ void EvalParams::validate() const {
         throw ConfigError("[eval] map_voxel must be >= 0 [m] (0 = no voxel filter)");
     if (!(outlier_threshold > 0) || !std::isfinite(outlier_threshold))
         throw ConfigError("[eval] outlier_threshold must be > 0 [m]");
+    if (!(risk_fail_xyz > 0) || !std::isfinite(risk_fail_xyz))
+        throw ConfigError("[eval] risk_fail_xyz must be > 0 [m]");
+    if (!(risk_fail_deg > 0) || !std::isfinite(risk_fail_deg))
+        throw ConfigError("[eval] risk_fail_deg must be > 0 [deg]");
     if (robustness_bins < 1 || robustness_bins > 100000)
         throw ConfigError("[eval] robustness_bins must be in [1, 100000]");
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 
 namespace superloc::eval {
 
@@ -30,6 +31,49 @@ HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, con
         c.counts[state][bucket]++;
     }
     return c;
+}
+
+double RiskPrediction::Counts::precision() const {
+    return tp + fp > 0 ? double(tp) / double(tp + fp) : std::numeric_limits<double>::quiet_NaN();
+}
+double RiskPrediction::Counts::recall() const {
+    return tp + fn > 0 ? double(tp) / double(tp + fn) : std::numeric_limits<double>::quiet_NaN();
+}
+RiskPrediction::Counts& RiskPrediction::Counts::operator+=(const Counts& o) {
+    tp += o.tp, fp += o.fp, fn += o.fn, tn += o.tn;
+    return *this;
+}
+RiskPrediction& RiskPrediction::operator+=(const RiskPrediction& o) {
+    for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 6; ++k) counts[r][k] += o.counts[r][k];
+    frames += o.frames;
+    return *this;
+}
+
+RiskPrediction riskPrediction(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
+                              const EvalParams& params) {
+    RiskPrediction p;
+    const Association a = associate(est, gt, params.assoc_tolerance);
+    const size_t n = std::min(est.size(), frames.frames.size());
+    const double fail_rad = params.risk_fail_deg * kDeg;
+    for (size_t i = 0; i < n; ++i) {
+        if (i >= a.gt_of_est.size() || a.gt_of_est[i] == SIZE_MAX) continue;
+        const SE3d E = gt[a.gt_of_est[i]].pose.inverse() * est[i].pose;
+        const Eigen::AngleAxisd aa(E.linear());
+        Vec6d err;
+        err << E.translation().cwiseAbs(), (aa.angle() * aa.axis()).cwiseAbs();
+        if (!err.allFinite()) continue;
+        ++p.frames;
+        for (int k = 0; k < 6; ++k) {
+            const bool failed = err[k] > (k < 3 ? params.risk_fail_xyz : fail_rad);
+            for (int r = 0; r < 3; ++r) {
+                const bool flagged = frames.frames[i].rule_flags[r][k];
+                auto& c = p.counts[r][k];
+                (flagged ? (failed ? c.tp : c.fp) : (failed ? c.fn : c.tn))++;
+            }
+        }
+    }
+    return p;
 }
 
 EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParams& params,
@@ -60,6 +104,7 @@ EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParam
                 }
         r.degenerate_frame_percent = 100.0 * double(flagged) / double(frames->frames.size());
         if (frames->has_health) r.health = healthConfusion(est, gt, *frames, params.assoc_tolerance);
+        if (frames->has_rules) r.risk = riskPrediction(est, gt, *frames, params);
     }
     return r;
 }
@@ -83,6 +128,42 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 }  // namespace
+
+std::string riskPredictionMarkdown(const RiskPrediction& p) {
+    std::string s = "| rule |";
+    for (int k = 0; k < 6; ++k) s += std::string(" ") + kAxisNames[k] + " |";
+    s += "\n|---|";
+    for (int k = 0; k < 6; ++k) s += "---:|";
+    s += "\n";
+    const auto ratio = [](double v) { return std::isfinite(v) ? fmt("%.2f", v) : std::string("–"); };
+    for (int r = 0; r < 3; ++r) {
+        s += std::string("| ") + kRuleNames[r] + " |";
+        for (int k = 0; k < 6; ++k) {
+            const auto& c = p.counts[r][k];
+            s += " " + ratio(c.precision()) + " / " + ratio(c.recall()) + " |";
+        }
+        s += "\n";
+    }
+    return s;
+}
+
+io::Json toJson(const RiskPrediction& p) {
+    io::Json j = {{"frames", p.frames}};
+    for (int r = 0; r < 3; ++r) {
+        io::Json rule = io::Json::object();
+        for (int k = 0; k < 6; ++k) {
+            const auto& c = p.counts[r][k];
+            rule[kAxisNames[k]] = {{"tp", c.tp},
+                                   {"fp", c.fp},
+                                   {"fn", c.fn},
+                                   {"tn", c.tn},
+                                   {"precision", c.precision()},
+                                   {"recall", c.recall()}};
+        }
+        j[kRuleColumns[r]] = rule;
+    }
+    return j;
+}
 
 io::Json toJson(const EvalResult& r, bool with_curves) {
     io::Json j = {{"est_frames", r.est_frames},
@@ -120,6 +201,7 @@ io::Json toJson(const EvalResult& r, bool with_curves) {
         h["confidently_wrong"] = r.health->confidentlyWrong();
         j["health"] = h;
     }
+    if (r.risk) j["risk_prediction"] = toJson(*r.risk);
     return j;
 }
 
@@ -159,6 +241,11 @@ std::string summaryMarkdown(const EvalResult& r) {
                 std::to_string(c[0]) + " / " + std::to_string(c[1]) + " / " + std::to_string(c[2]));
         }
     }
+    if (r.risk)
+        s += "\nRisk as a failure predictor (" + std::to_string(r.risk->frames) +
+             " frames; per axis the precision / recall of each rule's flag for an error above "
+             "[eval] risk_fail_xyz / risk_fail_deg along that axis):\n\n" +
+             riskPredictionMarkdown(*r.risk);
     return s;
 }
 

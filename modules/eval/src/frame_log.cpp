@@ -58,6 +58,8 @@ FrameLog loadFrameLog(const std::string& path) {
         log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
 
     log.has_health = col.count("health") > 0;
+    log.has_rules = true;
+    for (const char* c : kRuleColumns) log.has_rules &= col.count(c) > 0;
     size_t lineno = 1;
     while (std::getline(in, line)) {
         ++lineno;
@@ -76,13 +78,17 @@ FrameLog loadFrameLog(const std::string& path) {
         f.ms_total = number("ms_total");
         if (log.has_gamma)
             for (int k = 0; k < 6; ++k) f.gamma[k] = number(std::string("gamma_") + kAxisNames[k]);
-        if (col.count("degenerate") && col["degenerate"] < cells.size()) {
+        const auto axes = [&](const std::string& name, std::array<bool, 6>& flags) {
+            if (!col.count(name) || col[name] >= cells.size()) return;
             try {
-                f.degenerate = parseDegenerateAxes(cells[col["degenerate"]]);
+                flags = parseDegenerateAxes(cells[col[name]]);
             } catch (const std::invalid_argument& e) {
-                throw std::runtime_error(where + e.what());
+                throw std::runtime_error(where + "column '" + name + "': " + e.what());
             }
-        }
+        };
+        axes("degenerate", f.degenerate);
+        if (log.has_rules)
+            for (int r = 0; r < 3; ++r) axes(kRuleColumns[r], f.rule_flags[r]);
         if (log.has_health) {
             const size_t k = col["health"];
             f.health = k < cells.size() ? cells[k] : "";

@@ -3,12 +3,71 @@
 #include <superloc/fusion/imu_factor.h>
 #include <superloc/fusion/pose_prior_factor.h>
 #include <superloc/fusion/relative_pose_factor.h>
-#include <superloc/fusion/speed_bias_prior_factor.h>
 #include <superloc/fusion/pose_manifold.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 
 namespace superloc::fusion {
+
+StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params) {
+    StatePrior p;
+    p.T_ref = s.T_map_imu();
+    for (int k = 0; k < 9; ++k) p.sb_ref[k] = s.speed_bias[k];
+    Eigen::Matrix<double, 15, 1> w;
+    w << Vec3d::Constant(1.0 / params.prev_pose_sigma_xyz),
+        Vec3d::Constant(1.0 / (params.prev_pose_sigma_rot_deg * M_PI / 180.0)),
+        Vec3d::Constant(1.0 / params.prev_velocity_sigma), Vec3d::Constant(1.0 / params.prev_acc_bias_sigma),
+        Vec3d::Constant(1.0 / params.prev_gyro_bias_sigma);
+    p.sqrt_info = w.asDiagonal();
+    return p;
+}
+
+namespace {
+
+/// SolveSummary::marginal: the Gauss-Newton information of [prev pose, prev speed-bias, cur
+/// pose, cur speed-bias] (tangent coordinates: map-frame translation, body rotation increment)
+/// at the solution, the previous state eliminated (Schur complement), expressed in
+/// StatePriorFactor's error coordinates (translation in the body axes of the reference).
+std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
+    eo.apply_loss_function = true;
+    eo.num_threads = 1;
+    ceres::CRSMatrix J;
+    if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J) || J.num_cols != 30) return std::nullopt;
+    Eigen::Matrix<double, 30, 30> H = Eigen::Matrix<double, 30, 30>::Zero();
+    Eigen::Matrix<double, 30, 1> row;
+    for (int r = 0; r < J.num_rows; ++r) {
+        row.setZero();
+        for (int k = J.rows[r]; k < J.rows[r + 1]; ++k) row[J.cols[k]] = J.values[k];
+        H.selfadjointView<Eigen::Lower>().rankUpdate(row);
+    }
+    H = H.selfadjointView<Eigen::Lower>();
+    const Mat15d Hpp = H.topLeftCorner<15, 15>(), Hcc = H.bottomRightCorner<15, 15>();
+    const Mat15d Hcp = H.bottomLeftCorner<15, 15>();
+    // Hpp is positive definite: the previous state always has its prior.
+    const Eigen::LDLT<Mat15d> ldlt(Hpp);
+    if (ldlt.info() != Eigen::Success) return std::nullopt;
+    Mat15d M = Hcc - Hcp * ldlt.solve(Hcp.transpose());
+    // Tangent translation is in the map frame, the prior's error in the reference body axes:
+    // e = A d with A = diag(R^T, I, I), so the information is A M A^T.
+    const SE3d T = cur.T_map_imu();
+    Mat15d A = Mat15d::Identity();
+    A.topLeftCorner<3, 3>() = T.linear().transpose();
+    M = A * M * A.transpose();
+    M = 0.5 * (M + M.transpose());
+    const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
+    if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) return std::nullopt;
+    StatePrior p;
+    p.T_ref = T;
+    for (int k = 0; k < 9; ++k) p.sb_ref[k] = cur.speed_bias[k];
+    // L^T L = M with L = D^1/2 V^T (eigenvalues rounded up to 0).
+    p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+    return p;
+}
+
+}  // namespace
 
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params) {
     ceres::Problem::Options popt;
@@ -46,16 +105,9 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
         problem.AddResidualBlock(
             ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr,
             prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
-        Mat6d sp = Mat6d::Zero();
-        sp.diagonal().head<3>().setConstant(1.0 / params.prev_pose_sigma_xyz);
-        sp.diagonal().tail<3>().setConstant(1.0 / (params.prev_pose_sigma_rot_deg * M_PI / 180.0));
-        problem.AddResidualBlock(PosePriorFactor::Create(prev.T_map_imu(), sp), nullptr, prev.pose);
-        SpeedBiasPriorFactor::Vec9d ref, w;
-        for (int k = 0; k < 9; ++k) ref[k] = prev.speed_bias[k];
-        w << Vec3d::Constant(1.0 / params.prev_velocity_sigma),
-            Vec3d::Constant(1.0 / params.prev_acc_bias_sigma),
-            Vec3d::Constant(1.0 / params.prev_gyro_bias_sigma);
-        problem.AddResidualBlock(SpeedBiasPriorFactor::Create(ref, w), nullptr, prev.speed_bias);
+        problem.AddResidualBlock(
+            StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)), nullptr,
+            prev.pose, prev.speed_bias);
     }
 
     if (in.prior) {
@@ -89,6 +141,7 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     out.iterations = static_cast<int>(summary.iterations.size()) - 1;
     out.initial_cost = summary.initial_cost;
     out.final_cost = summary.final_cost;
+    if (with_imu && in.marginalize && out.usable) out.marginal = marginalize(problem, prev, cur);
     // Keep the quaternions exactly unit.
     for (FrameState* s : {in.cur, in.prev}) {
         Eigen::Map<Eigen::Vector4d> q(s->pose + 3);

@@ -10,6 +10,8 @@ void FusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
     robust_kernel = c.read_string(s, "robust_kernel", robust_kernel);
     MRPT_LOAD_CONFIG_VAR(kernel_scale, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_iterations, int, c, s);
+    window = c.read_string(s, "window", window);
+    MRPT_LOAD_CONFIG_VAR(marginal_scale, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prev_pose_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prev_pose_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(prev_velocity_sigma, double, c, s);
@@ -23,6 +25,8 @@ void FusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(robust_kernel, "none | huber | cauchy");
     MRPT_SAVE_CONFIG_VAR_COMMENT(kernel_scale, "[m] robust kernel scale");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_iterations, "Ceres iterations per solve");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(window, "IMU window prior on the previous state: marginalized | fixed");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(marginal_scale, "[-] factor on the marginal's information");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_pose_sigma_xyz, "[m] prior on the previous pose (IMU window)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_pose_sigma_rot_deg, "[deg] prior on the previous attitude");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prev_velocity_sigma, "[m/s] prior on the previous velocity");
@@ -38,6 +42,9 @@ void FusionParams::validate() const {
     positive(scan_sigma, "scan_sigma");
     positive(kernel_scale, "kernel_scale");
     if (max_iterations < 1) throw ConfigError("[fusion] max_iterations must be >= 1");
+    if (window != "marginalized" && window != "fixed")
+        throw ConfigError("[fusion] window = '" + window + "' (use marginalized or fixed)");
+    positive(marginal_scale, "marginal_scale");
     positive(prev_pose_sigma_xyz, "prev_pose_sigma_xyz");
     positive(prev_pose_sigma_rot_deg, "prev_pose_sigma_rot_deg");
     positive(prev_velocity_sigma, "prev_velocity_sigma");

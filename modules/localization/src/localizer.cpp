@@ -17,6 +17,9 @@ void FrameReport::setRisk(const risk::RiskReport& r) {
     gamma = r.gamma;
     degenerate = r.degenerate;
     degenerate_axes = risk::degenerateAxes(r);
+    flags_labels1 = risk::axisLetters(r.rules.labels1);
+    flags_labels2 = risk::axisLetters(r.rules.labels2);
+    flags_eigen = risk::axisLetters(r.rules.eigen);
     hessian_eigenvalues = r.weight_sum > 0 ? Vec6d(r.eigenvalues / r.weight_sum) : Vec6d::Zero();
     translation_eigenvalues = r.translation_eigenvalues;
     weakest_translation = r.weakest_translation;
@@ -232,7 +235,10 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         in.acc_bias_rw = params_.imu.acc_bias_rw;
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
         in.prior = prior;
+        in.prev_prior = prev_marginal_ && !from_hypothesis ? &*prev_marginal_ : nullptr;
+        in.marginalize = params_.fusion.window == "marginalized" && !from_hypothesis;
         const auto sum = fusion::solveFrame(in, params_.fusion);
+        if (!from_hypothesis) cur_marginal_ = sum.marginal;
         rep.ms.solve += msSince(t0);
         rep.rounds = r + 1;
         rep.iterations += sum.iterations;
@@ -311,7 +317,10 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
         in.acc_bias_rw = params_.imu.acc_bias_rw;
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
         in.cur_pose_prior = std::make_pair(T_ndt, w);
+        in.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
+        in.marginalize = params_.fusion.window == "marginalized";
         const auto sum = fusion::solveFrame(in, params_.fusion);
+        cur_marginal_ = sum.marginal;
         rep.iterations += sum.iterations;
     }
     rep.ms.solve += msSince(t0);
@@ -381,6 +390,7 @@ FrameReport Localizer::process(const Scan& scan) {
     rep.index = frames_++;
     rep.t = scan.t;
     const bool first = !have_prev_;
+    cur_marginal_.reset();
     T_imu_lidar_ = scan.T_imu_lidar;
 
     // Step 1: prediction.
@@ -477,6 +487,13 @@ FrameReport Localizer::process(const Scan& scan) {
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;
+    // The marginal holds only for the state its solve produced: not after a divergence, a
+    // recovery, a restart or any later change of the pose (jump rejection, eigen_remap).
+    const bool own_solve = cur_marginal_ && !rep.diverged && !rep.recovered && !restart_ &&
+                           (cur_marginal_->T_ref.matrix() - cur_.T_map_imu().matrix()).cwiseAbs().maxCoeff() < 1e-9;
+    prev_marginal_ = own_solve ? cur_marginal_ : std::nullopt;
+    if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
+        prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);
     have_prev_ = have_prev_ || !reloc_pending_;
     // Keep one second of IMU before the last scan.
     const auto keep = std::lower_bound(imu_.begin(), imu_.end(), scan.t - 1.0,

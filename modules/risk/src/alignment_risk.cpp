@@ -62,6 +62,20 @@ void groupConfidence(const Vec6d& counts, int first, Vec6d& gamma) {
         gamma[k] = total > 0 ? std::min(1.0, 3.0 * counts[k] / total) : 0.0;
 }
 
+/// RiskReport::RuleFlags::eigen for one 3x3 information block (axes first..first+2).
+void eigenRule(const Eigen::Matrix3d& block, int first, double threshold, std::array<bool, 6>& flags) {
+    const double trace = block.trace();
+    if (!(trace > 0) || !block.allFinite()) {
+        for (int k = first; k < first + 3; ++k) flags[k] = true;
+        return;
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(block / trace);
+    Eigen::Matrix3d P = Eigen::Matrix3d::Zero();
+    for (int i = 0; i < 3; ++i)
+        if (es.eigenvalues()[i] < threshold / 3.0) P += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose();
+    for (int k = 0; k < 3; ++k) flags[first + k] = P(k, k) >= 0.5;
+}
+
 }  // namespace
 
 bool RiskReport::anyDegenerate() const {
@@ -82,6 +96,8 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
     r.rotation_label.assign(n, kNoLabel);
     r.rotation_label2.assign(n, kNoLabel);
     if (params.keep_jacobians) r.jacobians.assign(n, Vec6d::Zero());
+    // Rotation counts with one and with two labels per correspondence (RuleFlags).
+    Vec6d counts1 = Vec6d::Zero(), counts2 = Vec6d::Zero();
 
     for (size_t i = 0; i < n; ++i) {
         const Correspondence& c = correspondences[i];
@@ -104,15 +120,14 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         // constrains no rotation and gets no rotation label.
         if (torque.squaredNorm() > 1e-24) {
             const int rot = argmaxAbs(torque);
-            r.rotation_label[i] = static_cast<int8_t>(3 + rot);
-            r.counts[3 + rot] += w;
+            counts1[3 + rot] += w;
+            counts2[3 + rot] += w;
             // The torques of a surface with normal n span the plane orthogonal to n: its two
             // rotation axes (released reference code: top-2 rotation labels).
-            const int rot2 = params.rotation_labels == 2 ? secondAbs(torque, rot) : -1;
-            if (rot2 >= 0) {
-                r.rotation_label2[i] = static_cast<int8_t>(3 + rot2);
-                r.counts[3 + rot2] += w;
-            }
+            const int rot2 = secondAbs(torque, rot);
+            if (rot2 >= 0) counts2[3 + rot2] += w;
+            r.rotation_label[i] = static_cast<int8_t>(3 + rot);
+            if (params.rotation_labels == 2 && rot2 >= 0) r.rotation_label2[i] = static_cast<int8_t>(3 + rot2);
         }
         r.used_by_type[static_cast<size_t>(c.type) % 3]++;
 
@@ -124,10 +139,21 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         r.weight_sum += w;
     }
 
-    // Paper eq. (7)-(8), per group (DESIGN §5), and the 0.2 rule of §III-B.
-    groupConfidence(r.counts, 0, r.gamma);
-    groupConfidence(r.counts, 3, r.gamma);
-    for (int k = 0; k < 6; ++k) r.degenerate[k] = r.gamma[k] < params.degenerate_threshold;
+    // Paper eq. (7)-(8), per group (DESIGN §5), and the 0.2 rule of §III-B, for both label
+    // schemes; `gamma` is the configured one.
+    Vec6d gamma1 = Vec6d::Zero(), gamma2 = Vec6d::Zero();
+    counts1.head<3>() = counts2.head<3>() = r.counts.head<3>();
+    groupConfidence(counts1, 0, gamma1);
+    groupConfidence(counts1, 3, gamma1);
+    groupConfidence(counts2, 0, gamma2);
+    groupConfidence(counts2, 3, gamma2);
+    r.counts.tail<3>() = (params.rotation_labels == 2 ? counts2 : counts1).tail<3>();
+    r.gamma = params.rotation_labels == 2 ? gamma2 : gamma1;
+    for (int k = 0; k < 6; ++k) {
+        r.degenerate[k] = r.gamma[k] < params.degenerate_threshold;
+        r.rules.labels1[k] = gamma1[k] < params.degenerate_threshold;
+        r.rules.labels2[k] = gamma2[k] < params.degenerate_threshold;
+    }
 
     if (params.hessian_eigen) {
         r.hessian = r.hessian.selfadjointView<Eigen::Lower>();
@@ -146,16 +172,20 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
             v.cwiseAbs().maxCoeff(&k);
             r.weakest_translation = v[k] < 0 ? Vec3d(-v) : v;
         }
+        eigenRule(r.hessian.topLeftCorner<3, 3>(), 0, params.degenerate_threshold, r.rules.eigen);
+        eigenRule(r.hessian.bottomRightCorner<3, 3>(), 3, params.degenerate_threshold, r.rules.eigen);
     }
     return r;
 }
 
-std::string degenerateAxes(const RiskReport& report) {
+std::string axisLetters(const std::array<bool, 6>& flags) {
     std::string s;
     for (int k = 0; k < 6; ++k)
-        if (report.degenerate[k]) s += kAxisNames[k];
+        if (flags[k]) s += kAxisNames[k];
     return s;
 }
+
+std::string degenerateAxes(const RiskReport& report) { return axisLetters(report.degenerate); }
 
 std::array<uint8_t, 3> observabilityColor(int translation_label) {
     switch (translation_label) {

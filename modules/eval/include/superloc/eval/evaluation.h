@@ -33,6 +33,33 @@ inline constexpr const char* kErrorBuckets[3] = {"< 0.1 m", "0.1-0.5 m", "> 0.5 
 HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
                                 double assoc_tolerance);
 
+/// Risk as a failure predictor (issue: "Risk as a measured failure predictor"): per rule of
+/// frames.csv (kRuleColumns) and axis, the frames flagged against the frames that failed along
+/// that axis. The error of a frame is E = T_gt^-1 T_est, in the GT pose's own axes (the
+/// trajectory's frame: the LiDAR, whose axes are the body's in every data set here): it fails
+/// along x, y, z when |E.translation()_k| > risk_fail_xyz, along roll, pitch, yaw when the
+/// component k of E's rotation vector exceeds risk_fail_deg.
+struct RiskPrediction {
+    struct Counts {
+        size_t tp = 0, fp = 0, fn = 0, tn = 0;  ///< flagged & failed, flagged & fine, ...
+        /// tp / (tp + fp) and tp / (tp + fn); NaN when the denominator is 0.
+        double precision() const;
+        double recall() const;
+        Counts& operator+=(const Counts& o);
+    };
+    std::array<std::array<Counts, 6>, 3> counts{};  ///< [rule][axis]
+    size_t frames = 0;                             ///< frames matched to GT
+    RiskPrediction& operator+=(const RiskPrediction& o);
+};
+
+/// The table of a run whose frame log has the rule columns (frames[i] is est[i]).
+RiskPrediction riskPrediction(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
+                              const EvalParams& params);
+
+/// The table as Markdown: one row per rule, precision / recall per axis ("–" when undefined).
+std::string riskPredictionMarkdown(const RiskPrediction& p);
+io::Json toJson(const RiskPrediction& p);
+
 struct EvalResult {
     size_t est_frames = 0, gt_frames = 0, matched_frames = 0;
     bool aligned = false;
@@ -44,6 +71,7 @@ struct EvalResult {
     std::map<std::string, TimingStats> stages;       ///< every ms_* column of the frame log
     std::optional<double> degenerate_frame_percent;  ///< [%] frames with any axis flagged
     std::optional<HealthConfusion> health;           ///< when the frame log has a health column
+    std::optional<RiskPrediction> risk;              ///< when the frame log has the rule columns
 };
 
 /// Evaluates one run. `est_map`/`gt_map` and `frames` may be null.

@@ -5,6 +5,7 @@
 #include <superloc/fusion/fusion_params.h>
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/fusion/state.h>
+#include <superloc/fusion/state_prior_factor.h>
 #include <superloc/imu/preintegration.h>
 
 #include <optional>
@@ -29,13 +30,27 @@ struct FrameProblemInputs {
     /// Absolute prior on the current pose, e.g. a registration result from outside this
     /// problem (method=ndt fuses PCL's NDT pose with the IMU factor this way).
     std::optional<std::pair<SE3d, Mat6d>> cur_pose_prior;  ///< T_map_imu, 6x6 sqrt-information
+    /// With `imu`: the previous state's prior, e.g. the last solve's marginal
+    /// (SolveSummary::marginal); null = the fixed prev_*_sigma priors of FusionParams around
+    /// the previous state's current values (fixedStatePrior).
+    const StatePrior* prev_prior = nullptr;
+    /// With `imu`: compute SolveSummary::marginal after the solve.
+    bool marginalize = false;
 };
 
 struct SolveSummary {
     bool usable = false;      ///< Ceres' IsSolutionUsable()
     int iterations = 0;
     double initial_cost = 0, final_cost = 0;
+    /// The current state's marginal at the solution: the problem's information (Gauss-Newton,
+    /// J^T J with the IRLS weights of the scan factor) with the previous state eliminated by its
+    /// Schur complement, as a prior for the next frame's solve (its previous state). Only when
+    /// asked (`marginalize`), with the IMU factor and a usable solution.
+    std::optional<StatePrior> marginal;
 };
+
+/// The fixed-sigma prior on a state (FusionParams prev_*_sigma) around its values.
+StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params);
 
 /// Builds and solves the problem once (the caller re-associates and calls again).
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params);

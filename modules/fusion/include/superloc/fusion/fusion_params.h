@@ -13,8 +13,13 @@ struct FusionParams : public mrpt::config::CLoadableOptions {
     std::string robust_kernel = "cauchy";  ///< none | huber | cauchy (applied as IRLS weights)
     double kernel_scale = 0.1;         ///< [m] scale of the robust kernel
     int max_iterations = 8;            ///< Ceres iterations per solve (one solve per association)
-    /// Two-state window: the previous frame's state is optimised too, held by priors with these
-    /// standard deviations (a stand-in for marginalisation); only with IMU.
+    /// Two-state window (only with IMU): the previous frame's state is optimised too, held by
+    /// a prior: `marginalized` = the last solve's marginal of that state (full information,
+    /// correlations included, scaled by marginal_scale; doc/method.md §3), `fixed` = the
+    /// sigmas below. The sigmas also hold the first state, and any state whose marginal is
+    /// not available (the frame's pose did not come from its own solve).
+    std::string window = "marginalized";
+    double marginal_scale = 1.0;  ///< [-] factor on the marginal's information (< 1 = less sure)
     double prev_pose_sigma_xyz = 0.02;      ///< [m]
     double prev_pose_sigma_rot_deg = 0.2;   ///< [deg]
     double prev_velocity_sigma = 0.5;       ///< [m/s]

@@ -37,6 +37,8 @@ struct FrameReport {
     Vec6d gamma = Vec6d::Zero();
     std::array<bool, 6> degenerate{};
     std::string degenerate_axes;       ///< flagged axes as letters ("x", "xyaw", "")
+    /// The three failure-prediction rules of risk::RiskReport::RuleFlags, as letters.
+    std::string flags_labels1, flags_labels2, flags_eigen;
     // The classic analysis of the same correspondences, for comparison (not used by superloc):
     // eigenvalues of H = sum w J J^T divided by sum w (ascending), and of its translation block
     // with the weakest translation direction in body axes (risk::RiskReport).

@@ -226,6 +226,10 @@ class Localizer : public mrpt::system::COutputLogger {
     bool have_prev_ = false;
     fusion::FrameState prev_, cur_;
     std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
+    /// The IMU window's prior on the previous state (FusionParams::window = marginalized): the
+    /// marginal of the last frame's own solve, or none (fixed sigmas) when that frame's pose did
+    /// not come from it. cur_marginal_: this frame's, from its last solve.
+    std::optional<fusion::StatePrior> prev_marginal_, cur_marginal_;
     size_t frames_ = 0;
 
     // Per-frame scratch (kept to avoid allocations in the hot path).

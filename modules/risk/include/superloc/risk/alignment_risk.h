@@ -77,6 +77,22 @@ struct RiskReport {
     Vec3d translation_eigenvalues = Vec3d::Zero();
     Vec3d weakest_translation = Vec3d::Zero();
 
+    /// The failure-prediction rules compared in doc/results.md ("Risk as a failure
+    /// predictor"), each a flag per axis from the same correspondences, whatever
+    /// rotation_labels selects for `gamma`/`degenerate`:
+    /// - labels1, labels2: gamma_k < degenerate_threshold with one or two rotation labels per
+    ///   correspondence (translation flags are the same in both);
+    /// - eigen: the classic Hessian-eigenvalue rule, per group so that metres and radians do
+    ///   not mix: the translation block sum w n n^T and the rotation block
+    ///   sum w (p x n)(p x n)^T, each divided by its trace; the eigen-directions whose eigenvalue
+    ///   is below degenerate_threshold / 3 (the same share of a uniform spread, 1/3, that the
+    ///   gamma rule's 0.2 is) span the degenerate subspace; axis k is flagged when at least
+    ///   half of it lies in that subspace (projector diagonal P_kk >= 0.5). An empty group
+    ///   flags all three axes. All false when hessian_eigen is off.
+    struct RuleFlags {
+        std::array<bool, 6> labels1{}, labels2{}, eigen{};
+    } rules;
+
     bool anyDegenerate() const;
 };
 
@@ -96,6 +112,9 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
 /// The flagged axes as letters in 6-vector order, e.g. "x", "xyaw", "" when none
 /// (the `degenerate` column of frames.csv).
 std::string degenerateAxes(const RiskReport& report);
+
+/// Flags as letters in 6-vector order (the helper behind degenerateAxes).
+std::string axisLetters(const std::array<bool, 6>& flags);
 
 /// Observability-scan colour of a translation label: x red, y green, z blue, anything else
 /// (kNoLabel) grey (paper Fig. 4).
