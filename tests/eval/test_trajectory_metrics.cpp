@@ -221,4 +221,5 @@ TEST(RiskPrediction, HandCounted) {
     const auto j = toJson(p);
     EXPECT_EQ(j["flags_labels1"]["x"]["fn"].get<size_t>(), 2u);
     EXPECT_DOUBLE_EQ(j["flags_labels1"]["x"]["precision"].get<double>(), 0.75);
+    EXPECT_TRUE(j["flags_labels2"]["x"]["precision"].is_null());  // nothing flagged
 }

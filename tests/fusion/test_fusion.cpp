@@ -7,6 +7,7 @@
 #include <superloc/fusion/pose_manifold.h>
 #include <superloc/fusion/scan_factor.h>
 
+#include <memory>
 #include <random>
 
 using namespace superloc;
@@ -255,4 +256,90 @@ TEST(FrameProblem, MarginalIsLooseAlongTheAxisTheScanMisses) {
     // prior would have reset it to 2.9e-3.
     EXPECT_NEAR(C2(0, 0), 1.04e-2, 0.05 * 1.04e-2);
     EXPECT_LT(C2(1, 1), 3e-5);
+}
+
+// The IMU factor's bias path. Samples of a rotating, accelerating motion carry a non-zero bias;
+// the preintegration is linearised at zero bias. At the true states with the true biases the
+// first-order bias correction brings the residual near zero; with the biases left at zero it is
+// large. Then the factor's Jacobians (autodiff through the bias correction and the quaternion
+// maps) against central differences in the tangent spaces, at a state away from the solution.
+TEST(ImuFactor, BiasPathResidualAndJacobians) {
+    const imu::ImuBias b{Vec3d(0.08, -0.05, 0.1), Vec3d(0.01, -0.006, 0.004)};
+    const Vec3d w(0.2, -0.3, 0.5), a_body(0.4, 0.2, -0.1), g(0, 0, -9.81);
+    const double dt = 0.005;
+    const int n = 40;  // 0.2 s
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    imu::Preintegration pre_true(b, imu::ImuNoise{0.02, 0.002});
+    FrameState si;
+    si.setPose(makePoseRPY(1, 2, 0.5, 0.1, -0.05, 0.7));
+    si.setVelocity(Vec3d(1.0, -0.5, 0.1));
+    Mat3d R = si.T_map_imu().linear();
+    for (int k = 0; k < n; ++k) {
+        // Specific force of a body accelerating at a_body (body axes) under gravity.
+        const Vec3d f = a_body - R.transpose() * g;
+        pre.integrate(f + b.acc, w + b.gyro, dt);
+        pre_true.integrate(f + b.acc, w + b.gyro, dt);
+        R = R * expSO3(w * dt);
+    }
+    si.setBias(b);
+    const imu::NavState nj = pre_true.predict(si.nav(), b, g);
+    FrameState sj;
+    sj.setPose(nj.pose());
+    sj.setVelocity(nj.v);
+    sj.setBias(b);
+    ImuFactor f(pre, g, 0.001, 0.0001);
+    Eigen::Matrix<double, 15, 1> r_true, r_zero;
+    f(si.pose, si.speed_bias, sj.pose, sj.speed_bias, r_true.data());
+    FrameState si0 = si, sj0 = sj;
+    si0.setBias({});
+    sj0.setBias({});
+    f(si0.pose, si0.speed_bias, sj0.pose, sj0.speed_bias, r_zero.data());
+    EXPECT_LT(r_true.norm(), 0.05 * r_zero.norm()) << r_true.transpose() << "\n" << r_zero.transpose();
+    EXPECT_GT(r_zero.norm(), 3.0);  // whitened: sigmas off without the bias
+
+    // Jacobians at a perturbed state (residual far from zero, biases off their linearisation).
+    FrameState pi = si, pj = sj;
+    pj.setPose(sj.T_map_imu() * makePoseRPY(0.03, -0.02, 0.01, 0.01, -0.02, 0.015));
+    pj.setVelocity(sj.velocity() + Vec3d(0.05, 0.02, -0.03));
+    pi.setBias({Vec3d(0.1, -0.02, 0.05), Vec3d(0.02, -0.01, 0.0)});
+    std::unique_ptr<ceres::CostFunction> cf(ImuFactor::Create(pre, g, 0.001, 0.0001));
+    double* blocks[4] = {pi.pose, pi.speed_bias, pj.pose, pj.speed_bias};
+    const int sizes[4] = {7, 9, 7, 9};
+    std::vector<std::vector<double>> J(4);
+    std::vector<double*> jp(4);
+    for (int k = 0; k < 4; ++k) J[k].resize(15 * sizes[k]), jp[k] = J[k].data();
+    Eigen::Matrix<double, 15, 1> r0;
+    ASSERT_TRUE(cf->Evaluate(blocks, r0.data(), jp.data()));
+    PoseManifold m;
+    for (int k = 0; k < 4; ++k) {
+        const bool pose = sizes[k] == 7;
+        const int tangent = pose ? 6 : 9;
+        Eigen::MatrixXd Jt = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+            J[k].data(), 15, sizes[k]);
+        if (pose) {
+            double P[42];
+            m.PlusJacobian(blocks[k], P);
+            Jt = Jt * Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+        }
+        std::vector<double> saved(blocks[k], blocks[k] + sizes[k]);
+        const double h = 1e-6;
+        for (int c = 0; c < tangent; ++c) {
+            Eigen::Matrix<double, 15, 1> rp, rm;
+            for (double sgn : {1.0, -1.0}) {
+                std::vector<double> x = saved;
+                if (pose) {
+                    double d[6] = {0, 0, 0, 0, 0, 0};
+                    d[c] = sgn * h;
+                    m.Plus(saved.data(), d, x.data());
+                } else {
+                    x[c] += sgn * h;
+                }
+                std::copy(x.begin(), x.end(), blocks[k]);
+                cf->Evaluate(blocks, (sgn > 0 ? rp : rm).data(), nullptr);
+            }
+            std::copy(saved.begin(), saved.end(), blocks[k]);
+            const Eigen::Matrix<double, 15, 1> num = (rp - rm) / (2 * h);
+            EXPECT_LT((num - Jt.col(c)).norm(), 1e-4 * std::max(1.0, num.norm())) << "block " << k << " column " << c;
+        }
+    }
 }

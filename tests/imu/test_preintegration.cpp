@@ -5,6 +5,7 @@
 #include <superloc/imu/rest_init.h>
 
 #include <cmath>
+#include <random>
 
 using namespace superloc;
 using namespace superloc::imu;
@@ -137,4 +138,47 @@ TEST(RestInit, FindsGyroBiasAndUpDirection) {
     // A moving sensor is not at rest.
     for (auto& x : s) x.gyro = Vec3d(0, 0, 0.5);
     EXPECT_FALSE(initAtRest(s, 0, p).at_rest);
+}
+
+// The preintegrated covariance (first order, Forster et al.) against Monte Carlo on a rotating,
+// accelerating trajectory: 1500 runs of 0.5 s at 200 Hz, white noise of the configured density
+// on every sample (std sigma / sqrt(dt)); errors of (dR, dv, dp) against the noise-free
+// integration, dR as Log(dR_clean^T dR_noisy). Each diagonal element within 12 % (the sample
+// variance's own standard error is sqrt(2/1500) = 3.7 %), and the velocity-position and
+// rotation-velocity cross-covariances, which the rotation couples, within 15 % of the diagonal
+// scale.
+TEST(Preintegration, CovarianceMatchesMonteCarloWithRotation) {
+    Analytic tr;
+    const double rate = 200, dt = 1.0 / rate;
+    const auto clean = sampleAnalytic(tr, 0, 0.5, rate);
+    const ImuNoise noise{0.05, 0.005};
+    Preintegration nominal({}, noise);
+    for (const auto& s : clean) nominal.integrate(s.acc, s.gyro, dt);
+    const int runs = 1500;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> n01(0, 1);
+    Mat9d C = Mat9d::Zero();
+    for (int r = 0; r < runs; ++r) {
+        Preintegration p;
+        for (const auto& s : clean) {
+            const Vec3d na(n01(rng), n01(rng), n01(rng)), ng(n01(rng), n01(rng), n01(rng));
+            p.integrate(s.acc + noise.acc / std::sqrt(dt) * na, s.gyro + noise.gyro / std::sqrt(dt) * ng, dt);
+        }
+        Eigen::Matrix<double, 9, 1> e;
+        e << logSO3(nominal.deltaR().transpose() * p.deltaR()), p.deltaV() - nominal.deltaV(),
+            p.deltaP() - nominal.deltaP();
+        C += e * e.transpose() / runs;
+    }
+    const Mat9d& P = nominal.covariance();
+    for (int k = 0; k < 9; ++k) EXPECT_NEAR(C(k, k), P(k, k), 0.12 * P(k, k)) << k;
+    for (int k = 0; k < 3; ++k) {
+        const double scale_vp = std::sqrt(P(3 + k, 3 + k) * P(6 + k, 6 + k));
+        EXPECT_NEAR(C(3 + k, 6 + k), P(3 + k, 6 + k), 0.15 * scale_vp) << k;
+    }
+    // Rotation couples attitude error into velocity across axes (g and the specific force):
+    // the rotation-velocity block is not zero and Monte Carlo agrees with it.
+    const Eigen::Matrix3d Prv = P.block<3, 3>(0, 3), Crv = C.block<3, 3>(0, 3);
+    const double scale_rv = std::sqrt(P.block<3, 3>(0, 0).trace() * P.block<3, 3>(3, 3).trace());
+    EXPECT_GT(Prv.norm(), 0.1 * scale_rv);
+    EXPECT_LT((Crv - Prv).norm(), 0.15 * scale_rv);
 }

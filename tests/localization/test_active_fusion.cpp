@@ -193,6 +193,17 @@ TEST(EigenRemap, ProjectsOutTheWeakEigenDirection) {
     const RemapResult keep = eigenRemap(T_ref, T_solved, H, 1e-5);
     EXPECT_EQ(keep.removed, 0);
     EXPECT_LT(translationDistance(keep.T, T_solved), 1e-9);
+    // Per group, as shares of the group's trace: a yaw eigenvalue of 0.5 rad^-2 is larger than
+    // every translation one but only 0.5 % of its group (50, 50, 0.5), so yaw is removed, and
+    // x (share 0.33) is kept although its value is 100x below yaw's.
+    Mat6d H2 = Mat6d::Zero();
+    H2.diagonal() << 0.005, 0.005, 0.005, 50, 50, 0.5;
+    const RemapResult g = eigenRemap(T_ref, T_solved, H2, 0.2 / 3);
+    EXPECT_EQ(g.removed, 1);
+    EXPECT_NEAR(g.prior_share[5], 1, 1e-9);
+    EXPECT_NEAR(g.prior_share[0], 0, 1e-9);
+    EXPECT_NEAR(toVec6(T_ref.inverse() * g.T)[0], 0.4, 1e-6);
+    EXPECT_NEAR(toVec6(T_ref.inverse() * g.T)[5], 0.0, 1e-9);
 }
 
 TEST(ObservabilityScan, VoxelMajorityColourAndPly) {

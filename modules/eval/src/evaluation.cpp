@@ -122,6 +122,7 @@ io::Json curve(const RobustnessCurve& c) {
     for (const auto& p : c.curve) tau.push_back(p.tau), f1.push_back(p.f1);
     return {{"area", c.area}, {"tau", tau}, {"f1", f1}};
 }
+io::Json finiteOrNull(double v) { return std::isfinite(v) ? io::Json(v) : io::Json(nullptr); }
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
@@ -157,8 +158,9 @@ io::Json toJson(const RiskPrediction& p) {
                                    {"fp", c.fp},
                                    {"fn", c.fn},
                                    {"tn", c.tn},
-                                   {"precision", c.precision()},
-                                   {"recall", c.recall()}};
+                                   // undefined (nothing flagged / nothing failed): null
+                                   {"precision", finiteOrNull(c.precision())},
+                                   {"recall", finiteOrNull(c.recall())}};
         }
         j[kRuleColumns[r]] = rule;
     }

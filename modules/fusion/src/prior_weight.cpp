@@ -29,7 +29,7 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(odom_sigma_min_rot_deg, "[deg] floor of its rotation std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min eigenvalue of H / sum(w)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min share of a group's information (uniform 1/3)");
 }
 
 void ActiveFusionParams::validate() const {
@@ -111,22 +111,32 @@ Mat6d sqrtInfo(const Vec6d& W) {
     return S;
 }
 
-RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H_norm,
-                       double threshold) {
+RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H, double threshold) {
     // Zhang, Kaess, Singh 2016, eq. (8)-(10): x_f = V_f^-1 V_u x_u, with V the eigenvectors of
     // the (symmetric) Hessian as rows and V_f = V with the rows of eigenvalues below the
-    // threshold zeroed; V orthonormal gives x_f = V^T diag(mask) V x_u.
-    Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (H_norm + H_norm.transpose()));
+    // threshold zeroed; V orthonormal gives x_f = V^T diag(mask) V x_u. Per group (translation,
+    // rotation), each block divided by its trace, so that metres and radians never share one
+    // eigen-decomposition and the threshold is a share of the group's information.
     const Vec6d d = toVec6(T_ref.inverse() * T_solved);
     Mat6d P_keep = Mat6d::Zero(), P_removed = Mat6d::Zero();
     RemapResult out;
-    for (int k = 0; k < 6; ++k) {
-        const Vec6d v = es.eigenvectors().col(k);
-        if (es.eigenvalues()[k] >= threshold) {
-            P_keep += v * v.transpose();
-        } else {
-            P_removed += v * v.transpose();
-            ++out.removed;
+    for (int g = 0; g < 6; g += 3) {
+        const Mat3d B = 0.5 * (H.block<3, 3>(g, g) + H.block<3, 3>(g, g).transpose());
+        const double trace = B.trace();
+        if (!(trace > 0) || !B.allFinite()) {  // nothing constrains the group
+            P_removed.block<3, 3>(g, g).setIdentity();
+            out.removed += 3;
+            continue;
+        }
+        const Eigen::SelfAdjointEigenSolver<Mat3d> es(B / trace);
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d v = es.eigenvectors().col(k);
+            if (es.eigenvalues()[k] >= threshold) {
+                P_keep.block<3, 3>(g, g) += v * v.transpose();
+            } else {
+                P_removed.block<3, 3>(g, g) += v * v.transpose();
+                ++out.removed;
+            }
         }
     }
     out.T = T_ref * fromVec6(P_keep * d);

@@ -35,13 +35,15 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
 SE3d OdomFusionEigenRemap::afterRound(const FusionFrame& f, const SE3d& T_round_start,
                                       const fusion::ScanFactor& scan, const SE3d& T_solved,
                                       FrameReport& rep) const {
-    // H at the solution with the round's IRLS weights, normalised by the total weight and
-    // without sigma, so the threshold reads as information per correspondence.
+    // H at the solution with the round's IRLS weights (sigma and scale drop out: each group is
+    // divided by its trace in eigenRemap).
     double wsum = 0;
     for (double w : scan.sqrtWeights()) wsum += w * w;
     if (!(wsum > 0)) return T_solved;
-    const Mat6d H =
-        fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights()) / wsum;
+    const Mat6d H = fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights());
+    // The reference is the frame's motion prior: the previous pose moved by odom_alt's motion
+    // over the frame (odom_alt plays the visual odometry's part in Zhang et al.'s system), else
+    // the round's start (the IMU or constant-velocity prediction on the first round).
     const SE3d T_ref = f.odom_delta ? SE3d(f.T_prev_map_imu * *f.odom_delta) : T_round_start;
     const auto r = fusion::eigenRemap(T_ref, T_solved, H, p_.eigen_threshold);
     if (r.removed == 0) return T_solved;

@@ -30,9 +30,10 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     double odom_sigma_min_rot_deg = 0.01;  ///< [deg] floor of that sigma (rotation)
     double passive_sigma_xyz = 0.02;       ///< [m] per-frame std of the passive prior's translation
     double passive_sigma_rot_deg = 0.2;    ///< [deg] per-frame std of its rotation
-    /// [-] eigen_remap: eigenvalue threshold on H / sum(w) (mean information per correspondence,
-    /// sigma removed: translation eigenvalues are shares in [0, 1], rotation ones m^2)
-    double eigen_threshold = 0.05;
+    /// [-] eigen_remap: an eigen-direction of the scan Hessian's translation or rotation block
+    /// whose share of the block's trace is below this is degenerate (a uniform spread gives 1/3;
+    /// the default, 0.2 / 3, is the share below which the risk's gamma < 0.2 rule flags an axis)
+    double eigen_threshold = 0.2 / 3.0;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -74,9 +75,11 @@ struct RemapResult {
     Vec6d prior_share = Vec6d::Zero();  ///< diag of the projector onto the removed subspace
 };
 
-/// Zhang et al. 2016 solution remapping. d = Log(T_ref^-1 T_solved) (toVec6) is projected onto
-/// the eigenvectors of H_norm with eigenvalue >= threshold: T = T_ref Exp(V_f V_f^T d).
-RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H_norm,
-                       double threshold);
+/// Zhang et al. 2016 solution remapping, per group: d = Log(T_ref^-1 T_solved) (toVec6) is
+/// projected onto the eigenvectors of H's translation block and of its rotation block (each
+/// divided by its trace: eigenvalues are shares of the group's information, 1/3 each for a
+/// uniform spread) whose share is >= threshold: T = T_ref Exp(V_f V_f^T d). A group with no
+/// information (trace 0) is removed whole. Cross terms between the groups are not used.
+RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H, double threshold);
 
 }  // namespace superloc::fusion

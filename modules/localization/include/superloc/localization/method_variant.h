@@ -85,9 +85,11 @@ class OdomFusionActive : public OdomFusion {
     double scan_sigma_;
 };
 
-/// eigen_remap (Zhang, Kaess, Singh, ICRA 2016): each round's update is kept along the scan
-/// Hessian's eigen-directions above `eigen_threshold`; along the others the pose comes from
-/// odom_alt (previous pose × odom_alt motion), else stays at the round's start pose.
+/// eigen_remap (Zhang, Kaess, Singh, ICRA 2016): each round's update is kept along the
+/// eigen-directions of the scan Hessian's translation and rotation blocks whose share of the
+/// block's information is at least `eigen_threshold`; along the others the pose stays at the
+/// motion prior, as in Zhang et al.: the previous pose × odom_alt's motion over the frame, else
+/// the round's start pose (doc/method.md §2).
 class OdomFusionEigenRemap : public OdomFusion {
    public:
     explicit OdomFusionEigenRemap(const fusion::ActiveFusionParams& p) : p_(p) {}
