@@ -4,8 +4,9 @@
 #    scans -> localize the odd scans (never in the map) from a start perturbed by (0.5 m, 0.5 m,
 #    0.2 m, 5 deg yaw) with the voxel-map association (doc/map.md) -> evaluate against ground truth.
 # 2. Active fusion: a simulated 150 m corridor with nothing along its axis (VLP-16, IMU and a
-#    drifting second odometry, 30 s) localized with plain LiDAR-inertial icp and with superloc,
-#    both evaluated against the simulator's ground truth.
+#    drifting second odometry, 30 s) localized with icp (no second odometry), passive (the
+#    second odometry on every axis) and superloc (only on the axes the risk flags), each with and
+#    without the IMU, evaluated against the simulator's ground truth.
 # Outputs in ./out/demo.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -35,15 +36,18 @@ $BIN/superloc-localize ini/localize.ini --rawlog "$OUT/kitti00-mini.rawlog" --se
 $BIN/superloc-eval --est "$OUT/run/trajectory.tum" --gt "$DATA/gt_velodyne_tum.txt" \
     --json "$OUT/eval.json"
 
-# 2. Active fusion on a featureless corridor (~15 s).
+# 2. Active fusion on a featureless corridor (~30 s).
 $BIN/superloc-sim ini/sim/corridor.ini --out "$OUT/corridor" --set corridor.length=150 \
     --set corridor.recesses=0 --set sim.duration=30 --set lidar.preset=../sensors/vlp16.ini
-for m in icp superloc; do
-  $BIN/superloc-localize ini/localize.ini --rawlog "$OUT/corridor/sequence.rawlog" \
-      --map "$OUT/corridor/prior_map.pcd" --initial-pose-tum "$OUT/corridor/gt_tum.txt" \
-      --method $m --out "$OUT/corridor-$m"
-  $BIN/superloc-eval --est "$OUT/corridor-$m/trajectory.tum" --gt "$OUT/corridor/gt_tum.txt" \
-      --json "$OUT/corridor-$m/eval.json" > "$OUT/corridor-$m/eval.txt"
+for imu in true false; do
+  for m in icp passive superloc; do
+    R="$OUT/corridor-$m-imu-$imu"
+    $BIN/superloc-localize ini/localize.ini --rawlog "$OUT/corridor/sequence.rawlog" \
+        --map "$OUT/corridor/prior_map.pcd" --initial-pose-tum "$OUT/corridor/gt_tum.txt" \
+        --method $m --set localization.use_imu=$imu --out "$R" --quiet
+    $BIN/superloc-eval --est "$R/trajectory.tum" --gt "$OUT/corridor/gt_tum.txt" \
+        --json "$R/eval.json" > "$R/eval.txt"
+  done
 done
 set +x
 ate() {  # ATE translation RMSE [m] of a superloc-eval --json file
@@ -52,5 +56,8 @@ print("n/a" if v is None else "%.3f" % v)' "$1"
 }
 echo
 echo "kitti00-mini odd scans in the even scans' map (perturbed start), ATE RMSE [m]: $(ate "$OUT/eval.json")"
-echo "featureless corridor, ATE RMSE [m]: icp $(ate "$OUT/corridor-icp/eval.json"), superloc $(ate "$OUT/corridor-superloc/eval.json")"
-echo "(frames.csv in $OUT/corridor-superloc: gamma_x < 0.2 flags x, prior_w_x is the odom_alt weight it got)"
+for imu in true false; do
+  echo "featureless corridor, IMU $imu, ATE RMSE [m]: icp $(ate "$OUT/corridor-icp-imu-$imu/eval.json")," \
+       "passive $(ate "$OUT/corridor-passive-imu-$imu/eval.json"), superloc $(ate "$OUT/corridor-superloc-imu-$imu/eval.json")"
+done
+echo "(frames.csv in $OUT/corridor-superloc-imu-false: gamma_x < 0.2 flags x, prior_w_x is the odom_alt weight it got)"
