@@ -179,6 +179,19 @@ imu::Preintegration stillImu() {
     for (int k = 0; k < 100; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.001);
     return pre;
 }
+/// The two-state IMU window over `pre` (and `scan` if given), the current state at t = 0.1 s,
+/// asking for the marginal.
+FrameProblemInputs imuWindow(FrameState& prev, FrameState& cur, const imu::Preintegration& pre,
+                             ScanFactor* scan = nullptr) {
+    cur.t = 0.1;
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.imu = &pre;
+    in.scan = scan;
+    in.marginalize = true;
+    return in;
+}
 Mat15d covarianceOf(const StatePrior& p) {
     const Mat15d info = p.sqrt_info.transpose() * p.sqrt_info;
     return info.inverse();
@@ -193,12 +206,7 @@ Mat15d covarianceOf(const StatePrior& p) {
 TEST(FrameProblem, MarginalOfAnImuWindowMatchesPropagationByHand) {
     const imu::Preintegration pre = stillImu();
     FrameState prev, cur;
-    cur.t = 0.1;
-    FrameProblemInputs in;
-    in.prev = &prev;
-    in.cur = &cur;
-    in.imu = &pre;
-    in.marginalize = true;
+    FrameProblemInputs in = imuWindow(prev, cur, pre);
     FusionParams p;
     const auto s = solveFrame(in, p);
     ASSERT_TRUE(s.usable);
@@ -227,13 +235,7 @@ TEST(FrameProblem, MarginalIsLooseAlongTheAxisTheScanMisses) {
     ScanFactor scan(walls, 0.05);
     const imu::Preintegration pre = stillImu();
     FrameState prev, cur;
-    cur.t = 0.1;
-    FrameProblemInputs in;
-    in.prev = &prev;
-    in.cur = &cur;
-    in.imu = &pre;
-    in.scan = &scan;
-    in.marginalize = true;
+    const FrameProblemInputs in = imuWindow(prev, cur, pre, &scan);
     FusionParams p;
     const auto s = solveFrame(in, p);
     ASSERT_TRUE(s.marginal.has_value());
