@@ -1,5 +1,6 @@
 // odom_alt drifts as its INI says: drift_per_m metres per metre along a straight path, and
 // drift_per_rad radians per radian turned (within 20 %).
+#include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/rawlog.h>
 #include <superloc/sim/odom_alt.h>
@@ -117,4 +118,42 @@ TEST(OdomAlt, RawlogOdometryFollowsBodyMotion) {
     EXPECT_LT((d_gt.translation() - d_od.translation()).norm(),
               1.5 * cfg.odom_alt.drift_per_m * dist + 0.01);
     EXPECT_GT((d_gt.translation() - d_od.translation()).norm(), 0.0);  // it does drift
+}
+
+// Jumps: with jump_every = 1 s, jump_xyz = 0.3 m and jump_deg = 2, the increments that hold a
+// jump differ from the clean odometry's by exactly 0.3 m and 2 deg (the drift and noise being
+// the same: they draw from their own stream), once per second; every other increment is
+// identical, and the covariance does not show them.
+TEST(OdomAlt, JumpsOncePerPeriodOfTheirSizeAndNothingElseChanges) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{30, 0, 0}, 1.0}, {{30, 20, 0}, 1.0}}, 10);
+    OdomAltParams jumpy;
+    jumpy.jump_every = 1.0;
+    jumpy.jump_xyz = 0.3;
+    jumpy.jump_deg = 2.0;
+    OdomAltSimulator clean(OdomAltParams{}, 4), jumping(jumpy, 4);
+    SE3d prev_c, prev_j;
+    int jumps = 0, steps = 0;
+    for (double t = tr.startTime(); t < tr.endTime(); t += 0.05, ++steps) {
+        const PoseStamped c = clean.step(t, tr.pose(t)), j = jumping.step(t, tr.pose(t));
+        ASSERT_TRUE(c.cov && j.cov);
+        EXPECT_TRUE(c.cov->isApprox(*j.cov));
+        if (steps > 0) {
+            const SE3d dc = prev_c.inverse() * c.pose, dj = prev_j.inverse() * j.pose;
+            const SE3d e = dc.inverse() * dj;  // the jump, if any, in the increment's end frame
+            if (e.translation().norm() > 1e-9) {
+                ++jumps;
+                EXPECT_NEAR(e.translation().norm(), 0.3, 1e-6);
+                EXPECT_NEAR(logSO3(e.linear()).norm() / kDeg, 2.0, 1e-6);
+            } else {
+                EXPECT_LT(logSO3(e.linear()).norm(), 1e-9);
+            }
+        }
+        prev_c = c.pose;
+        prev_j = j.pose;
+    }
+    const double duration = tr.endTime() - tr.startTime();
+    EXPECT_NEAR(jumps, std::floor(duration), 1.0);
+    OdomAltParams bad;
+    bad.jump_xyz = -1;
+    EXPECT_THROW(bad.validate(), ConfigError);
 }

@@ -16,6 +16,9 @@ void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
     MRPT_LOAD_CONFIG_VAR(drift_per_rad, double, c, s);
     MRPT_LOAD_CONFIG_VAR(trans_noise, double, c, s);
     MRPT_LOAD_CONFIG_VAR(rot_noise_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(jump_every, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(jump_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(jump_deg, double, c, s);
 }
 
 void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -26,6 +29,9 @@ void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
     MRPT_SAVE_CONFIG_VAR_COMMENT(drift_per_rad, "[rad/rad] rotation drift per radian turned");
     MRPT_SAVE_CONFIG_VAR_COMMENT(trans_noise, "[m] 1-sigma white noise per increment");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rot_noise_deg, "[deg] 1-sigma white noise per increment");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(jump_every, "[s] a jump this often, not in the covariance (0 = none)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(jump_xyz, "[m] a jump's translation (random body direction)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(jump_deg, "[deg] a jump's rotation (random axis)");
 }
 
 void OdomAltParams::validate() const {
@@ -33,9 +39,12 @@ void OdomAltParams::validate() const {
         throw ConfigError("[odom_alt] rate_hz must be in [1, 200]");
     if (!(drift_per_m >= 0 && drift_per_rad >= 0 && trans_noise >= 0 && rot_noise_deg >= 0))
         throw ConfigError("[odom_alt] drift and noise values must be >= 0");
+    if (!(jump_every >= 0 && jump_xyz >= 0 && jump_deg >= 0) || !std::isfinite(jump_every + jump_xyz + jump_deg))
+        throw ConfigError("[odom_alt] jump_every, jump_xyz and jump_deg must be finite and >= 0");
 }
 
-OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed) : p_(p), rng_(seed) {
+OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed)
+    : p_(p), rng_(seed), jump_rng_(seed ^ 0x6a756d70ULL) {
     const auto unit = [&] {
         Vec3d v(n01_(rng_), n01_(rng_), n01_(rng_));
         return Vec3d(v / std::max(1e-9, v.norm()));
@@ -50,6 +59,7 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
     if (first_) {
         first_ = false;
         odom_ = SE3d::Identity();
+        next_jump_ = t + p_.jump_every;
     } else {
         const SE3d dT = last_gt_.inverse() * T_map_imu;
         const double d = dT.translation().norm();
@@ -63,6 +73,18 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
         SE3d E = SE3d::Identity();
         E.linear() = expSO3(dr);
         E.translation() = dt;
+        if (p_.jump_every > 0 && t >= next_jump_) {
+            next_jump_ += p_.jump_every;
+            std::normal_distribution<double> n(0.0, 1.0);
+            const auto unit = [&] {
+                const Vec3d v(n(jump_rng_), n(jump_rng_), n(jump_rng_));
+                return Vec3d(v / std::max(1e-9, v.norm()));
+            };
+            SE3d J = SE3d::Identity();
+            J.translation() = p_.jump_xyz * unit();
+            J.linear() = expSO3(p_.jump_deg * M_PI / 180 * unit());
+            E = E * J;
+        }
         odom_ = orthonormalize(odom_ * dT * E);
     }
     ++count_;

@@ -10,6 +10,10 @@
 // so along a straight path the position error grows by drift_per_m metres per metre travelled
 // (u drawn from the seed), and turning about an axis over- or under-estimates the angle
 // (sign drawn from the seed) by drift_per_rad radians per radian turned, like a gyro scale error.
+// Jumps (off by default): every jump_every seconds the odometry steps by jump_xyz metres along a
+// random body direction and jump_deg about a random axis, without saying so in its covariance,
+// like a VIO that re-localizes or loses track: wrong on every axis for that one increment,
+// including those the LiDAR constrains well.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -29,6 +33,9 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
     double drift_per_rad = 0.02;  ///< [rad/rad] rotation drift per radian turned
     double trans_noise = 0.0005;  ///< [m] 1-sigma white noise per increment
     double rot_noise_deg = 0.01;  ///< [deg] 1-sigma white noise per increment
+    double jump_every = 0;        ///< [s] a jump this often (0 = none)
+    double jump_xyz = 0;          ///< [m] size of a jump's translation (random body direction)
+    double jump_deg = 0;          ///< [deg] size of a jump's rotation (random axis)
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -51,6 +58,8 @@ class OdomAltSimulator {
     SE3d last_gt_, odom_;
     double dist_ = 0, angle_ = 0;
     size_t count_ = 0;
+    std::mt19937_64 jump_rng_;  ///< jumps draw from their own stream: the rest is as without them
+    double next_jump_ = -1;     ///< [s] time of the next jump (set at the first sample)
 };
 
 }  // namespace superloc::sim
