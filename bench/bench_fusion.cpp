@@ -1,8 +1,10 @@
 // Cost of superloc's prior weighting per frame (doc/method.md §2): the scan information H of the
 // frame's correspondences (body coordinates), s_k, W = diag(max(0, 1 - gamma)) s, and Zhang's
 // eigen remap — the work added to the risk step. Synthetic box-room correspondences.
+// And the IMU window's solve with and without its marginal (doc/method.md §3).
 #include <benchmark/benchmark.h>
 #include <superloc/core/se3.h>
+#include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/prior_weight.h>
 
 #include <random>
@@ -48,5 +50,31 @@ static void BM_EigenRemap(benchmark::State& st) {
     for (auto _ : st) benchmark::DoNotOptimize(eigenRemap(T, T2, H, 0.05));
 }
 BENCHMARK(BM_EigenRemap);
+
+// One solve of the two-state IMU window (scan factor over N correspondences, IMU factor over
+// 0.1 s at 200 Hz, the previous state's prior), with Arg(1) also computing the marginal of the
+// current state (Jacobian evaluation, 30 x 30 information, Schur complement) as every solve
+// of the default configuration does.
+static void BM_ImuWindowSolve(benchmark::State& st) {
+    const auto corr = room(2000);
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.2, 0, 9.81), Vec3d(0, 0, 0.1), 0.005);
+    FusionParams params;
+    for (auto _ : st) {
+        st.PauseTiming();
+        ScanFactor scan(corr, 0.05);
+        FrameState prev, cur;
+        cur.setPose(makePoseRPY(0.01, -0.01, 0.005, 0.001, 0, 0.002));
+        FrameProblemInputs in;
+        in.prev = &prev;
+        in.cur = &cur;
+        in.scan = &scan;
+        in.imu = &pre;
+        in.marginalize = st.range(0) != 0;
+        st.ResumeTiming();
+        benchmark::DoNotOptimize(solveFrame(in, params));
+    }
+}
+BENCHMARK(BM_ImuWindowSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();
