@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
 
 using namespace superloc;
@@ -69,6 +70,46 @@ TEST(EvalApp, KittiShiftedBy30cmHasAte30cm) {
     // Aligned, the rigid shift disappears.
     const std::string al = runApp({"--est", dir + "/shifted.tum", "--gt", gt, "--align"});
     EXPECT_NE(al.find("(SE(3)-aligned) | 0.0000"), std::string::npos) << al;
+}
+
+// With --frames, the risk table: the estimate is the GT shifted 0.3 m along the map's x on
+// frames 0-7 (16 frames); a frames.csv flags "x" (both label rules) on frames 0-3 and 8, nothing
+// by the eigen rule. The error is read in each GT pose's own axes, so whether it lands on body x
+// depends on the heading; the counts must add up to what the error along body x says per frame.
+TEST(EvalApp, FramesGiveTheRiskPredictionTable) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    const std::string gt = superloc::testing::sharedData("kitti00-mini/gt_velodyne_tum.txt");
+    const std::string dir = superloc::testing::freshDir("eval_app_kitti_risk");
+    const Trajectory truth = io::loadTum(gt);
+    Trajectory est = truth;
+    for (size_t i = 0; i < 8; ++i) est[i].pose.pretranslate(Vec3d(0.3, 0, 0));
+    io::saveTum(dir + "/est.tum", est);
+    {
+        std::ofstream f(dir + "/frames.csv");
+        f << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n";
+        for (size_t i = 0; i < est.size(); ++i) {
+            const char* flag = i < 4 || i == 8 ? "x" : "";
+            f << std::setprecision(17) << est[i].t << ",5," << flag << "," << flag << ",\n";
+        }
+    }
+    // Expected by hand from the geometry: frame i failed along body x when
+    // |(R_gt^T (0.3, 0, 0)).x| > 0.1 m.
+    size_t tp = 0, fp = 0, fn = 0;
+    for (size_t i = 0; i < est.size(); ++i) {
+        const bool failed = i < 8 && std::abs((truth[i].pose.linear().transpose() * Vec3d(0.3, 0, 0)).x()) > 0.1;
+        const bool flagged = i < 4 || i == 8;
+        tp += flagged && failed, fp += flagged && !failed, fn += !flagged && failed;
+    }
+    ASSERT_GT(tp, 0u);
+    const std::string out = runApp({"--est", dir + "/est.tum", "--gt", gt, "--frames", dir + "/frames.csv",
+                                    "--json", dir + "/r.json"});
+    EXPECT_NE(out.find("Risk as a failure predictor (16 frames"), std::string::npos) << out;
+    const auto json = nlohmann::json::parse(slurp(dir + "/r.json"));
+    const auto& x = json["risk_prediction"]["flags_labels2"]["x"];
+    EXPECT_EQ(x["tp"].get<size_t>(), tp);
+    EXPECT_EQ(x["fp"].get<size_t>(), fp);
+    EXPECT_EQ(x["fn"].get<size_t>(), fn);
+    EXPECT_EQ(json["risk_prediction"]["flags_eigen"]["x"]["tp"].get<size_t>(), 0u);
 }
 
 TEST(EvalApp, BadCommandLinesAreOneLineErrors) {
