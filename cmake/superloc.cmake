@@ -5,7 +5,9 @@
 # the user (CMAKE_CXX_FLAGS*) is refused here, at configure time, rather than crashing later.
 foreach(_flags_var CMAKE_CXX_FLAGS CMAKE_CXX_FLAGS_RELEASE CMAKE_CXX_FLAGS_RELWITHDEBINFO CMAKE_CXX_FLAGS_DEBUG
                    CMAKE_C_FLAGS)
-  if("${${_flags_var}}" MATCHES "-march=native|-mtune=native|-mavx")
+  # The same flags as the build's compile-command check (cmake/check_no_cpu_flags.cmake): any
+  # -march=..., -mtune=native, -mavx*, -mfma.
+  if("${${_flags_var}}" MATCHES "-m(arch=[^ ]+|tune=native|avx|fma)")
     message(FATAL_ERROR "${_flags_var} holds a CPU-specific flag (${${_flags_var}}): MRPT, PCL and Ceres from "
                         "Debian are built without it, and Eigen objects of differing alignment crash at run time")
   endif()
