@@ -236,7 +236,10 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
         in.prior = prior;
         in.prev_prior = prev_marginal_ && !from_hypothesis ? &*prev_marginal_ : nullptr;
-        in.marginalize = params_.fusion.window == "marginalized" && !from_hypothesis;
+        // Only the last round's marginal is kept: ask for it on a round that can be the last
+        // (finest resolution with the kernel at its floor, or the last allowed round).
+        in.marginalize = params_.fusion.window == "marginalized" && !from_hypothesis &&
+                         ((finest && kernel <= floor) || r == rounds - 1);
         const auto sum = fusion::solveFrame(in, params_.fusion);
         if (!from_hypothesis) cur_marginal_ = sum.marginal;
         rep.ms.solve += msSince(t0);
