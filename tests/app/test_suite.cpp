@@ -176,4 +176,14 @@ TEST(Suite, CommittedSuitesLoad) {
     EXPECT_EQ(paper.sequences[6].kind, SequenceSpec::Kind::PcdDir);
     EXPECT_EQ(paper.sequences[7].localize_sets,
               (std::vector<std::string>{"features.deskew=false"}));
+    // Every other committed suite (the stress studies) loads too.
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(superloc::testing::sourcePath("ini/bench"))) {
+        if (e.path().extension() != ".ini") continue;
+        const SuiteSpec s = loadSuite(e.path().string(), superloc::testing::sharedData());
+        EXPECT_FALSE(s.sequences.empty()) << e.path();
+        EXPECT_FALSE(s.methods.empty()) << e.path();
+        ++n;
+    }
+    EXPECT_GE(n, 10u);
 }

@@ -157,3 +157,64 @@ TEST(OdomAlt, JumpsOncePerPeriodOfTheirSizeAndNothingElseChanges) {
     bad.jump_xyz = -1;
     EXPECT_THROW(bad.validate(), ConfigError);
 }
+
+// drift_axis = x: along a straight path the odometry's position error lies along body x (the
+// travel direction, what a corridor's walls do not constrain) at drift_per_m per metre (white
+// noise off: its heading random walk alone moves the end point sideways by decimetres).
+TEST(OdomAlt, DriftAxisPutsTheDriftOnThatBodyAxis) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{100, 0, 0}, 1.0}}, 40);
+    OdomAltParams p;
+    p.drift_per_m = 0.05;
+    p.drift_axis = "x";
+    p.trans_noise = 0;
+    p.rot_noise_deg = 0;
+    for (uint64_t seed : {1, 2}) {
+        OdomAltSimulator sim(p, seed);
+        SE3d first_gt, first_od, gt, od;
+        bool first = true;
+        for (double t = tr.startTime(); t <= tr.endTime(); t += 0.05) {
+            gt = tr.pose(t);
+            od = sim.step(t, gt).pose;
+            if (first) first_gt = gt, first_od = od, first = false;
+        }
+        const SE3d dg = first_gt.inverse() * gt, dd = first_od.inverse() * od;
+        const Vec3d err = dd.translation() - dg.translation();  // start frame = body at start
+        const double dist = dg.translation().norm();
+        ASSERT_GT(dist, 50.0);
+        EXPECT_NEAR(std::abs(err.x()), 0.05 * dist, 0.1 * 0.05 * dist) << "seed " << seed;
+        EXPECT_LT(std::hypot(err.y(), err.z()), 0.01 * std::abs(err.x())) << "seed " << seed;
+    }
+    OdomAltParams bad;
+    bad.drift_axis = "w";
+    EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+// Heading slip: every increment turns by slip_deg_per_m per metre about body z more than the
+// clean odometry's, so along a straight 40 m path the heading is off by 40 x slip_deg_per_m;
+// the covariance does not show it and the translation increments are unchanged.
+TEST(OdomAlt, HeadingSlipTurnsYawPerMetreUnreported) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{40, 0, 0}, 1.0}}, 30);
+    OdomAltParams slipping;
+    slipping.slip_deg_per_m = 0.5;
+    OdomAltSimulator clean(OdomAltParams{}, 7), slip(slipping, 7);
+    SE3d c0, s0, c, s, g0, g;
+    bool first = true;
+    for (double t = tr.startTime(); t <= tr.endTime(); t += 0.05) {
+        g = tr.pose(t);
+        const PoseStamped pc = clean.step(t, g), ps = slip.step(t, g);
+        ASSERT_TRUE(pc.cov && ps.cov);
+        EXPECT_TRUE(pc.cov->isApprox(*ps.cov));
+        c = pc.pose;
+        s = ps.pose;
+        if (first) c0 = c, s0 = s, g0 = g, first = false;
+    }
+    const double dist = (g0.inverse() * g).translation().norm();
+    ASSERT_GT(dist, 35.0);
+    const SE3d dc = c0.inverse() * c, ds = s0.inverse() * s;
+    const Vec3d e = logSO3(dc.linear().transpose() * ds.linear());
+    EXPECT_NEAR(std::abs(e.z()) / kDeg, 0.5 * dist, 0.02 * 0.5 * dist);
+    EXPECT_LT(std::hypot(e.x(), e.y()), 0.01 * std::abs(e.z()));
+    OdomAltParams bad;
+    bad.slip_deg_per_m = -0.1;
+    EXPECT_THROW(bad.validate(), ConfigError);
+}

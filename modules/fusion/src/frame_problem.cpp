@@ -111,8 +111,12 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     if (in.prior) {
         // Relative-pose prior from odom_alt (paper §III-C), information chosen by the caller.
         if (!with_imu) problem.AddParameterBlock(prev.pose, 7, &manifold);
+        // Its residual is whitened, so the Cauchy scale is in sigmas: rho(s) = c^2 log(1 + s/c^2).
+        ceres::LossFunction* loss = nullptr;
+        if (params.active.prior_kernel == "cauchy")
+            loss = new ceres::CauchyLoss(params.active.prior_kernel_sigmas);
         problem.AddResidualBlock(
-            RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), nullptr, prev.pose,
+            RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), loss, prev.pose,
             cur.pose);
         if (!with_imu) problem.SetParameterBlockConstant(prev.pose);
     }

@@ -18,6 +18,8 @@ void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(passive_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(passive_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(eigen_threshold, double, c, s);
+    prior_kernel = c.read_string(s, "prior_kernel", prior_kernel);
+    MRPT_LOAD_CONFIG_VAR(prior_kernel_sigmas, double, c, s);
 }
 
 void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -30,6 +32,8 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min share of a group's information (uniform 1/3)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel, "robust loss on the odom_alt prior: none | cauchy");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel_sigmas, "[-] its scale, in sigmas of the prior");
 }
 
 void ActiveFusionParams::validate() const {
@@ -42,6 +46,9 @@ void ActiveFusionParams::validate() const {
     if (!(eigen_threshold >= 0)) throw ConfigError("[fusion] eigen_threshold must be >= 0");
     positive(odom_sigma_min_xyz, "odom_sigma_min_xyz");
     positive(odom_sigma_min_rot_deg, "odom_sigma_min_rot_deg");
+    if (prior_kernel != "none" && prior_kernel != "cauchy")
+        throw ConfigError("[fusion] prior_kernel = '" + prior_kernel + "' (use none or cauchy)");
+    positive(prior_kernel_sigmas, "prior_kernel_sigmas");
 }
 
 Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, double sigma,

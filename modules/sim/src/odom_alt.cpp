@@ -19,6 +19,8 @@ void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
     MRPT_LOAD_CONFIG_VAR(jump_every, double, c, s);
     MRPT_LOAD_CONFIG_VAR(jump_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(jump_deg, double, c, s);
+    drift_axis = c.read_string(s, "drift_axis", drift_axis);
+    MRPT_LOAD_CONFIG_VAR(slip_deg_per_m, double, c, s);
 }
 
 void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -32,6 +34,8 @@ void OdomAltParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std
     MRPT_SAVE_CONFIG_VAR_COMMENT(jump_every, "[s] a jump this often, not in the covariance (0 = none)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(jump_xyz, "[m] a jump's translation (random body direction)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(jump_deg, "[deg] a jump's rotation (random axis)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(drift_axis, "body direction of the translation drift: random | x | y | z");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(slip_deg_per_m, "[deg/m] heading slip about body z, not in the covariance (0 = none)");
 }
 
 void OdomAltParams::validate() const {
@@ -41,6 +45,10 @@ void OdomAltParams::validate() const {
         throw ConfigError("[odom_alt] drift and noise values must be >= 0");
     if (!(jump_every >= 0 && jump_xyz >= 0 && jump_deg >= 0) || !std::isfinite(jump_every + jump_xyz + jump_deg))
         throw ConfigError("[odom_alt] jump_every, jump_xyz and jump_deg must be finite and >= 0");
+    if (drift_axis != "random" && drift_axis != "x" && drift_axis != "y" && drift_axis != "z")
+        throw ConfigError("[odom_alt] drift_axis = '" + drift_axis + "' (use random, x, y or z)");
+    if (!(slip_deg_per_m >= 0 && std::isfinite(slip_deg_per_m)))
+        throw ConfigError("[odom_alt] slip_deg_per_m must be finite and >= 0");
 }
 
 OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed)
@@ -49,8 +57,11 @@ OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed)
         Vec3d v(n01_(rng_), n01_(rng_), n01_(rng_));
         return Vec3d(v / std::max(1e-9, v.norm()));
     };
-    u_ = unit();
+    u_ = unit();  // drawn whatever drift_axis says: the rest of the stream stays the same
+    if (p_.drift_axis != "random") u_ = Vec3d::Unit(p_.drift_axis[0] - 'x');
     sign_ = n01_(rng_) < 0 ? -1.0 : 1.0;
+    std::mt19937_64 slip_rng(seed ^ 0x736c6970ULL);
+    slip_sign_ = std::uniform_int_distribution<int>(0, 1)(slip_rng) ? 1.0 : -1.0;
 }
 
 PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
@@ -69,7 +80,8 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
         angle_ += a;
         const Vec3d nt(n01_(rng_), n01_(rng_), n01_(rng_)), nr(n01_(rng_), n01_(rng_), n01_(rng_));
         const Vec3d dt = p_.drift_per_m * d * u_ + p_.trans_noise * nt;
-        const Vec3d dr = sign_ * p_.drift_per_rad * phi + (p_.rot_noise_deg * M_PI / 180) * nr;
+        Vec3d dr = sign_ * p_.drift_per_rad * phi + (p_.rot_noise_deg * M_PI / 180) * nr;
+        dr.z() += slip_sign_ * p_.slip_deg_per_m * M_PI / 180 * d;
         SE3d E = SE3d::Identity();
         E.linear() = expSO3(dr);
         E.translation() = dt;

@@ -14,6 +14,11 @@
 // random body direction and jump_deg about a random axis, without saying so in its covariance,
 // like a VIO that re-localizes or loses track: wrong on every axis for that one increment,
 // including those the LiDAR constrains well.
+// drift_axis (default random) fixes u to a body axis: `x` along a corridor is a drift only on the
+// axis the scan does not constrain (a wheel-radius scale error), reported in the covariance.
+// Heading slip (off by default): every increment also turns about the body z axis by
+// slip_deg_per_m degrees per metre travelled (sign from its own stream), not shown in the
+// covariance: a wheel odometry whose wheels slip, wrong on yaw, which walls constrain well.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -36,6 +41,8 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
     double jump_every = 0;        ///< [s] a jump this often (0 = none)
     double jump_xyz = 0;          ///< [m] size of a jump's translation (random body direction)
     double jump_deg = 0;          ///< [deg] size of a jump's rotation (random axis)
+    std::string drift_axis = "random";  ///< body direction of the drift: random | x | y | z
+    double slip_deg_per_m = 0;    ///< [deg/m] unreported heading slip about body z (0 = none)
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -60,6 +67,7 @@ class OdomAltSimulator {
     size_t count_ = 0;
     std::mt19937_64 jump_rng_;  ///< jumps draw from their own stream: the rest is as without them
     double next_jump_ = -1;     ///< [s] time of the next jump (set at the first sample)
+    double slip_sign_ = 1;      ///< heading slip's sign (own stream: nothing else changes)
 };
 
 }  // namespace superloc::sim
