@@ -41,7 +41,7 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// many-sigma outlier against the IMU / scan evidence, and pulls with a bounded, falling
     /// force instead of in full (doc/method.md §2).
     std::string prior_kernel = "cauchy";
-    double prior_kernel_sigmas = 3.0;  ///< [-] Cauchy scale, in sigmas of the prior
+    double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
