@@ -58,7 +58,8 @@ OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed)
         return Vec3d(v / std::max(1e-9, v.norm()));
     };
     u_ = unit();  // drawn whatever drift_axis says: the rest of the stream stays the same
-    if (p_.drift_axis != "random") u_ = Vec3d::Unit(p_.drift_axis[0] - 'x');
+    if (p_.drift_axis == "x" || p_.drift_axis == "y" || p_.drift_axis == "z")
+        u_ = Vec3d::Unit(p_.drift_axis[0] - 'x');
     sign_ = n01_(rng_) < 0 ? -1.0 : 1.0;
     std::mt19937_64 slip_rng(seed ^ 0x736c6970ULL);
     slip_sign_ = std::uniform_int_distribution<int>(0, 1)(slip_rng) ? 1.0 : -1.0;
