@@ -4,6 +4,7 @@
 #include <superloc/fusion/pose_prior_factor.h>
 #include <superloc/fusion/relative_pose_factor.h>
 #include <superloc/fusion/pose_manifold.h>
+#include <superloc/fusion/scan_factor.h>
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
@@ -111,10 +112,15 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     if (in.prior) {
         // Relative-pose prior from odom_alt (paper §III-C), information chosen by the caller.
         if (!with_imu) problem.AddParameterBlock(prev.pose, 7, &manifold);
-        // Its residual is whitened, so the Cauchy scale is in sigmas: rho(s) = c^2 log(1 + s/c^2).
+        // Its residual is whitened, so the loss's scale is in sigmas (Cauchy: rho(s) = c^2
+        // log(1 + s/c^2)). The name was checked by FusionParams::validate.
         ceres::LossFunction* loss = nullptr;
-        if (params.active.prior_kernel == "cauchy")
-            loss = new ceres::CauchyLoss(params.active.prior_kernel_sigmas);
+        const double c = params.active.prior_kernel_sigmas;
+        switch (robustKernelFromString(params.active.prior_kernel)) {
+            case RobustKernel::Huber: loss = new ceres::HuberLoss(c); break;
+            case RobustKernel::Cauchy: loss = new ceres::CauchyLoss(c); break;
+            case RobustKernel::None: break;
+        }
         problem.AddResidualBlock(
             RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), loss, prev.pose,
             cur.pose);

@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace superloc::fusion {
 
@@ -32,7 +33,7 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min share of a group's information (uniform 1/3)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel, "robust loss on the odom_alt prior: none | cauchy");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel, "robust loss on the odom_alt prior: none | huber | cauchy");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel_sigmas, "[-] its scale, in sigmas of the prior");
 }
 
@@ -46,8 +47,11 @@ void ActiveFusionParams::validate() const {
     if (!(eigen_threshold >= 0)) throw ConfigError("[fusion] eigen_threshold must be >= 0");
     positive(odom_sigma_min_xyz, "odom_sigma_min_xyz");
     positive(odom_sigma_min_rot_deg, "odom_sigma_min_rot_deg");
-    if (prior_kernel != "none" && prior_kernel != "cauchy")
-        throw ConfigError("[fusion] prior_kernel = '" + prior_kernel + "' (use none or cauchy)");
+    try {
+        robustKernelFromString(prior_kernel);
+    } catch (const std::exception& e) {
+        throw ConfigError(std::string("[fusion] prior_kernel: ") + e.what());
+    }
     positive(prior_kernel_sigmas, "prior_kernel_sigmas");
 }
 

@@ -3,9 +3,20 @@
 #include <superloc/core/se3.h>
 #include <superloc/sim/odom_alt.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 namespace superloc::sim {
+
+namespace {
+/// A direction uniform on the sphere: three normal draws, normalized (the same expression as
+/// the simulator always used, so the seeded streams, and every committed figure, are unchanged).
+Vec3d randomUnit(std::mt19937_64& rng, std::normal_distribution<double>& n) {
+    const Vec3d v(n(rng), n(rng), n(rng));
+    return v / std::max(1e-9, v.norm());
+}
+}  // namespace
 
 void OdomAltParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                        const std::string& s) {
@@ -53,11 +64,7 @@ void OdomAltParams::validate() const {
 
 OdomAltSimulator::OdomAltSimulator(const OdomAltParams& p, uint64_t seed)
     : p_(p), rng_(seed), jump_rng_(seed ^ 0x6a756d70ULL) {
-    const auto unit = [&] {
-        Vec3d v(n01_(rng_), n01_(rng_), n01_(rng_));
-        return Vec3d(v / std::max(1e-9, v.norm()));
-    };
-    u_ = unit();  // drawn whatever drift_axis says: the rest of the stream stays the same
+    u_ = randomUnit(rng_, n01_);  // drawn whatever drift_axis says: the rest of the stream stays the same
     if (p_.drift_axis == "x" || p_.drift_axis == "y" || p_.drift_axis == "z")
         u_ = Vec3d::Unit(p_.drift_axis[0] - 'x');
     sign_ = n01_(rng_) < 0 ? -1.0 : 1.0;
@@ -89,13 +96,9 @@ PoseStamped OdomAltSimulator::step(double t, const SE3d& T_map_imu) {
         if (p_.jump_every > 0 && t >= next_jump_) {
             next_jump_ += p_.jump_every;
             std::normal_distribution<double> n(0.0, 1.0);
-            const auto unit = [&] {
-                const Vec3d v(n(jump_rng_), n(jump_rng_), n(jump_rng_));
-                return Vec3d(v / std::max(1e-9, v.norm()));
-            };
             SE3d J = SE3d::Identity();
-            J.translation() = p_.jump_xyz * unit();
-            J.linear() = expSO3(p_.jump_deg * M_PI / 180 * unit());
+            J.translation() = p_.jump_xyz * randomUnit(jump_rng_, n);
+            J.linear() = expSO3(p_.jump_deg * M_PI / 180 * randomUnit(jump_rng_, n));
             E = E * J;
         }
         odom_ = orthonormalize(odom_ * dT * E);

@@ -35,9 +35,9 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// whose share of the block's trace is below this is degenerate (a uniform spread gives 1/3;
     /// the default, 0.2 / 3, is the share below which the risk's gamma < 0.2 rule flags an axis)
     double eigen_threshold = 0.2 / 3.0;
-    /// Robust loss on the odom_alt relative-pose prior (superloc and passive alike): `none` or
-    /// `cauchy` on its whitened residual, scale prior_kernel_sigmas (in the prior's own standard
-    /// deviations). A jump of odom_alt that its covariance does not report is then a
+    /// Robust loss on the odom_alt relative-pose prior (superloc and passive alike): `none`,
+    /// `huber` or `cauchy` (the scan's robust_kernel names) as a Ceres loss on its whitened
+    /// residual, scale prior_kernel_sigmas (in the prior's own standard deviations). A jump of odom_alt that its covariance does not report is then a
     /// many-sigma outlier against the IMU / scan evidence, and pulls with a bounded, falling
     /// force instead of in full (doc/method.md §2).
     std::string prior_kernel = "cauchy";
