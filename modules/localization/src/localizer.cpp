@@ -148,13 +148,15 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     last_motion_ = motion;
 }
 
-void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, bool from_hypothesis) {
+void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, Solve kind) {
     const auto& lp = params_.loc;
+    const bool from_hypothesis = kind == Solve::Hypothesis;
+    const bool fused = kind == Solve::Track;  // odom_alt prior, IMU window
     const fusion::FrameState prev_saved = prev_;
     // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve);
     // its pose is set to each round's association pose where the policy is asked.
     FusionFrame fusion_frame;
-    if (!from_hypothesis) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
+    if (fused) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
     const int rounds = wide ? lp.rounds_init : lp.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
@@ -205,7 +207,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
                                                          params_.risk);
             rep.setRisk(risk);
-            if (!from_hypothesis) {
+            if (fused) {
                 fusion_frame.T_map_imu = T_before;
                 prior = variant_.fusion->prior(fusion_frame, risk);
             }
@@ -235,13 +237,13 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         in.acc_bias_rw = params_.imu.acc_bias_rw;
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
         in.prior = prior;
-        in.prev_prior = prev_marginal_ && !from_hypothesis ? &*prev_marginal_ : nullptr;
+        in.prev_prior = prev_marginal_ && fused ? &*prev_marginal_ : nullptr;
         // Only the last round's marginal is kept: ask for it on a round that can be the last
         // (finest resolution with the kernel at its floor, or the last allowed round).
-        in.marginalize = params_.fusion.window == "marginalized" && !from_hypothesis &&
+        in.marginalize = params_.fusion.window == "marginalized" && fused &&
                          ((finest && kernel <= floor) || r == rounds - 1);
         const auto sum = fusion::solveFrame(in, params_.fusion);
-        if (!from_hypothesis) cur_marginal_ = sum.marginal;
+        if (fused) cur_marginal_ = sum.marginal;
         rep.ms.solve += msSince(t0);
         rep.rounds = r + 1;
         rep.iterations += sum.iterations;
@@ -252,7 +254,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             rep.diverged_reason = "solver";
             break;
         }
-        if (!from_hypothesis) {  // the method's odom_alt fusion may amend the round's solution
+        if (fused) {  // the method's odom_alt fusion may amend the round's solution
             const SE3d T_solved = cur_.T_map_imu();
             fusion_frame.T_map_imu = T_before;
             const SE3d T_kept = variant_.fusion->afterRound(fusion_frame, T_before, scan, T_solved, rep);
@@ -285,6 +287,34 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
+}
+
+bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
+    // The last scan as a small map: its voxel candidates are one point per features.voxel_size
+    // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    PointCloud cloud;
+    cloud.points = last_scan_points_;
+    std::shared_ptr<const map::PriorMap> scan_map = std::make_shared<const map::PriorMap>(cloud, mp, last_scan_origin_);
+    const Solution saved = solution();
+    const auto saved_marginal = cur_marginal_;
+    std::swap(map_, scan_map);
+    cur_.setPose(prev_.T_map_imu());  // no motion since the last scan
+    FrameReport r;
+    solveIcp(nullptr, /*wide=*/true, r, Solve::LastScan);
+    const InlierStats in = inlierStats(corr_, pts_body_.size(), cur_.T_map_imu(), params_.loc.inlier_dist);
+    const SE3d T = cur_.T_map_imu();
+    std::swap(map_, scan_map);
+    restore(saved);
+    cur_marginal_ = saved_marginal;
+    rep.ms.associate += r.ms.associate;
+    rep.ms.solve += r.ms.solve;
+    // Not "converged" as a criterion: the last scan's 0.5 m candidates leave the last
+    // millimetres hesitant; a wrong motion is caught by the map solve's jump check.
+    if (r.diverged || in.ratio < params_.loc.min_inlier_ratio) return false;
+    pred.T_map_imu = T;
+    return true;
 }
 
 void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
@@ -446,11 +476,20 @@ FrameReport Localizer::process(const Scan& scan) {
     // Unknown velocity (doc/map.md): the first frame, the second without IMU (no velocity yet),
     // and a constant-velocity prediction over a gap longer than max_cv_gap start coarse, and
     // their solved pose is not checked against the prediction (it may be far off, rightly).
-    const bool velocity_unknown =
+    bool velocity_unknown =
         first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
+    const bool requested = reloc_pending_ || !hypotheses_.empty();
+    if (velocity_unknown && !first && !requested && !pred.used_imu && lp.motion_from_last_scan &&
+        !last_scan_points_.empty() && motionFromLastScan(pred, rep)) {
+        // Measured, not assumed: the frame is solved as a tracked one from the motion the last
+        // scan gives, and checked against it.
+        velocity_unknown = false;
+        rep.motion_from_scan = true;
+        cur_.setPose(pred.T_map_imu);
+        rep.T_map_lidar_pred = pred.T_map_imu * scan.T_imu_lidar;
+    }
     restart_ = false;
     rep.coarse_start = velocity_unknown && variant_.registration != Registration::Ndt;
-    const bool requested = reloc_pending_ || !hypotheses_.empty();
     if (requested) {
         // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
         // Until a pose is accepted, every scan searches again, or, after an ambiguous search,
@@ -490,6 +529,15 @@ FrameReport Localizer::process(const Scan& scan) {
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;
+    // Without IMU the next frame may need this scan to measure its motion (motionFromLastScan):
+    // its candidates, deskewed like its features, at the frame's final pose; not a lost one's.
+    if (!rep.used_imu && params_.loc.motion_from_last_scan && rep.health != Health::Lost && !rep.diverged) {
+        features::deskewPoints(scan.points, scan.rel_time, candidates_, last_motion_, last_scan_points_);
+        for (auto& p : last_scan_points_) p = (rep.T_map_lidar * p.cast<double>()).cast<float>();
+        last_scan_origin_ = rep.T_map_lidar.translation().cast<float>();
+    } else {
+        last_scan_points_.clear();
+    }
     // The marginal holds only for the state its solve produced: not after a divergence, a
     // recovery, a restart or any later change of the pose (jump rejection, eigen_remap).
     const bool own_solve = cur_marginal_ && !rep.diverged && !rep.recovered && !restart_ &&

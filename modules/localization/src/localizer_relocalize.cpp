@@ -47,7 +47,7 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
     r.rounds = r.iterations = 0;
     cur_ = start;
     cur_.t = scan.t;
-    solveIcp(nullptr, true, r, /*from_hypothesis=*/true);
+    solveIcp(nullptr, true, r, Solve::Hypothesis);
     if (!assoc_.voxel) {
         // Inliers measured as tracking measures them, so that the refined poses compare with
         // the frame's own solve (the two associations count inliers differently).

@@ -63,6 +63,9 @@ struct FrameReport {
     int iterations = 0;           ///< solver iterations over all rounds
     int final_level = 0;          ///< voxel map level of the last round (0 = finest)
     bool coarse_start = false;    ///< velocity unknown: solved from the coarsest level, no jump check
+    /// velocity unknown, no IMU: the prediction is the motion measured against the last scan
+    /// (LocalizationParams::motion_from_last_scan), and the frame was solved as a tracked one
+    bool motion_from_scan = false;
     bool converged = false;       ///< last round's update below the thresholds
     double last_step_xyz = 0;     ///< [m] the last round's update (translation)
     double last_step_deg = 0;     ///< [deg] the last round's update (rotation)

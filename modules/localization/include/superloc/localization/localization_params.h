@@ -31,6 +31,10 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// [s] without IMU, a constant-velocity prediction over a longer gap counts as unknown
     /// velocity: the frame starts at the coarsest level and skips the jump check
     double max_cv_gap = 0.5;
+    /// without IMU, a frame of unknown velocity after a tracked one is first registered against
+    /// that frame's scan (wide, from no motion): the motion it measures is the prediction, and
+    /// the frame is then solved in the map as a tracked one (doc/localizer.md, "Unknown velocity")
+    bool motion_from_last_scan = true;
     double max_fit_residual = 0.1;     ///< [m] map plane fit RMS giving weight 0
     /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
     /// and slow to converge from a far initial pose, so off by default)

@@ -99,9 +99,17 @@ class Localizer : public mrpt::system::COutputLogger {
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// Steps 3-5 from the current state's pose; `wide`: first-frame search radius and rounds.
-    /// `from_hypothesis`: verifying a pose of the global search (voxel association whatever
-    /// the tracking one, no odom_alt prior, no eigen_remap).
-    void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, bool from_hypothesis = false);
+    /// What a solve is for. Track: this frame in the prior map. Hypothesis: verifying a pose of
+    /// the global search (voxel association whatever the tracking one, no odom_alt prior, no
+    /// eigen_remap). LastScan: the motion since the last frame, against its scan
+    /// (motionFromLastScan; the tracking association, no odom_alt prior, no IMU window).
+    enum class Solve { Track, Hypothesis, LastScan };
+    void solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, Solve kind = Solve::Track);
+    /// Unknown velocity without IMU (LocalizationParams::motion_from_last_scan): this frame's
+    /// features registered, wide and from no motion, against the last frame's scan. When that
+    /// converges with enough inliers, `pred` becomes the pose it measured and true is returned.
+    /// The state, correspondences and statistics are left as they were.
+    bool motionFromLastScan(Prediction& pred, FrameReport& rep);
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
@@ -239,6 +247,10 @@ class Localizer : public mrpt::system::COutputLogger {
     std::vector<uint32_t> valid_, candidates_, feature_idx_, map_idx_;
     std::vector<Vec3f> deskewed_, map_points_, ndt_source_;
     std::vector<Vec3d> pts_body_;
+    /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
+    /// position, kept without IMU for motionFromLastScan; empty after a lost frame.
+    std::vector<Vec3f> last_scan_points_;
+    Vec3f last_scan_origin_ = Vec3f::Zero();
     std::vector<Correspondence> corr_;
     AssociationStats last_stats_;
     mutable int odom_alt_state_ = 0;  ///< 0 not checked yet, 1 available, -1 missing (logged)
