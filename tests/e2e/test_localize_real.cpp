@@ -131,6 +131,36 @@ TEST_F(RealSplitRuns, UnknownVelocityIsMeasuredAgainstTheLastScan) {
               << campus.ate << " m, worst " << campus.worst_m << " m\n";
 }
 
+// Why the KITTI split's first frames have a floor of ~0.15 m (doc/results.md, "KITTI split"):
+// KITTI's ground truth and the scans disagree at the start of sequence 00. Scan 1, localized
+// from its GT pose in a map of scan 0 alone, settles 0.17 m behind its GT pose along the road;
+// in a map of scan 2 alone, 0.15 m ahead: the scans moved ~0.16 m less per 0.1 s than the GT
+// says (PCL's GICP measures the same, with or without the ground points). By scan 15 the two
+// agree within 2 cm. A map built from the even scans at the GT poses is therefore smeared along
+// the road at the start.
+TEST_F(RealSplitRuns, KittiGroundTruthAndScansDisagreeAtTheStart) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    const Trajectory gt = io::loadTum(kitti_.gt_tum);
+    const auto alongRoad = [&](const std::string& map_scans, int scan) {
+        const auto one = superloc::testing::prepareRealSplit("kitti_scan_" + map_scans, "kitti00-mini", map_scans, 0.2);
+        const std::string sel = std::to_string(scan) + ":" + std::to_string(scan + 1);
+        const auto r = superloc::testing::localizeAndCompare(
+            {"--rawlog", one.rawlog, "--map", one.map, "--set", "rawlog.scans=" + sel, "--set",
+             "features.deskew=false", "--initial-pose-tum", kitti_.gt_tum, "--method", "icp", "--set",
+             "localization.max_corr_dist_init=1.0"},
+            one.dir + "/scan_" + sel, kitti_.gt_tum, 1.5);
+        EXPECT_EQ(r.frames.size(), 1u);
+        if (r.frames.empty()) return 0.0;
+        return (gt.at(static_cast<size_t>(scan)).pose.inverse() * r.frames[0].T_map_lidar).translation().x();
+    };
+    const double behind = alongRoad("0:1", 1), ahead = alongRoad("2:3", 1), late = alongRoad("14:15", 15);
+    EXPECT_LT(behind, -0.10);  // measured -0.17 m
+    EXPECT_GT(ahead, 0.10);    // measured +0.15 m
+    EXPECT_LT(std::abs(late), 0.05);  // measured 0.00 m
+    std::cout << "kitti: scan 1 from its GT pose, along the road: " << behind << " m in scan 0's map, " << ahead
+              << " m in scan 2's; scan 15 in scan 14's: " << late << " m\n";
+}
+
 TEST_F(RealSplitRuns, KittiOddScansInEvenMapFromPerturbedStart) {
     SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
     const Trajectory gt = io::loadTum(kitti_.gt_tum);
