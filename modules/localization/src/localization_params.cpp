@@ -36,6 +36,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(motion_from_last_scan, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(sweep_velocity, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
@@ -61,6 +62,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(motion_from_last_scan, "no IMU: unknown velocity measured against the last scan first");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(sweep_velocity, "unknown velocity, timed points: estimate the sweep's velocity for deskew");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");

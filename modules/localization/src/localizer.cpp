@@ -317,6 +317,72 @@ bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
     return true;
 }
 
+void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, const imu::Preintegration* pre,
+                                   FrameReport& rep) {
+    if (scan.rel_time.size() != scan.size() || feature_idx_.empty()) return;
+    const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
+    if (!(s_min < 0)) return;
+    const Mat3d R_il = scan.T_imu_lidar.linear();
+    const Vec3d w_l = pred.twist_from_imu ? Vec3d(R_il.transpose() * pred.w_body) : Vec3d::Zero();
+    // A prior on the velocity (1 m/s around zero) keeps the step defined where the scene cannot
+    // tell it (along a corridor; vertically, where it looks like roll and pitch); thousands of
+    // correspondences outweigh it wherever the scene does tell it.
+    constexpr double kVelocityPriorSigma = 1.0, kSettled = 0.02;  // [m/s]
+    constexpr int kSteps = 4;
+    Vec3d v_l = Vec3d::Zero();
+    AssociationParams ap = assoc_;
+    std::vector<uint32_t> feature_of;
+    const double inv_var = 1.0 / (params_.fusion.scan_sigma * params_.fusion.scan_sigma);
+    const int rounds_before = rep.rounds, iterations_before = rep.iterations;
+    int rounds = rep.rounds, iterations = rep.iterations;
+    for (int step = 0; step < kSteps && !rep.diverged; ++step) {
+        // The world point of feature f moves by R R_il s_f dv when the sweep velocity (LiDAR
+        // frame) changes by dv: three more columns beside the pose's six.
+        const SE3d T = cur_.T_map_imu();
+        const Mat3d R = T.linear();
+        auto t0 = Clock::now();
+        associate(pts_body_, T, *map_, ap, corr_, last_stats_, &feature_of);
+        rep.ms.associate += msSince(t0);
+        Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
+        Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
+        double r[3], J[18];
+        for (size_t k = 0; k < corr_.size(); ++k) {
+            const Correspondence& c = corr_[k];
+            if (c.weight <= 0) continue;
+            const double s = scan.rel_time[feature_idx_[feature_of[k]]];
+            fusion::correspondenceResidual(c, R, T.translation(), r, J);
+            const int dim = fusion::residualDim(c.type);
+            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>> J6(J, dim, 6);
+            Eigen::Map<const Eigen::VectorXd> res(r, dim);
+            const double w = c.weight * fusion::robustWeight(kernel_, res.norm(), params_.fusion.kernel_scale) * inv_var;
+            Eigen::Matrix<double, Eigen::Dynamic, 9> J9(dim, 9);
+            J9.leftCols<6>() = J6;
+            J9.rightCols<3>() = J6.leftCols<3>() * R * R_il * s;
+            H += w * J9.transpose() * J9;
+            g += w * J9.transpose() * res;
+        }
+        H.bottomRightCorner<3, 3>() += Mat3d::Identity() / (kVelocityPriorSigma * kVelocityPriorSigma);
+        g.tail<3>() += v_l / (kVelocityPriorSigma * kVelocityPriorSigma);
+        const Eigen::Matrix<double, 9, 1> delta = -H.ldlt().solve(g);
+        if (!delta.allFinite()) break;
+        const Vec3d dv = delta.tail<3>();
+        v_l += dv;
+        // Deskew again with the estimate and re-solve from the current pose.
+        t0 = Clock::now();
+        last_motion_ = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
+        features::deskewPoints(scan.points, scan.rel_time, feature_idx_, last_motion_, deskewed_);
+        for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
+        rep.ms.preprocess += msSince(t0);
+        rep.rounds = 0, rep.iterations = 0;
+        solveIcp(pre, /*wide=*/false, rep);
+        rounds += rep.rounds, iterations += rep.iterations;
+        if (dv.norm() < kSettled) break;
+    }
+    rep.rounds = rounds, rep.iterations = iterations;
+    rep.deskewed = rep.deskewed || rounds > rounds_before || iterations > iterations_before;
+    rep.sweep_velocity = v_l;
+}
+
 void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
     // The alignment risk is reported for ndt too (not used): correspondences at the prediction.
@@ -437,6 +503,7 @@ FrameReport Localizer::process(const Scan& scan) {
             const auto rest = imu::initAtRest(imu_, imu_.front().t, params_.imu);
             if (rest.at_rest) {
                 b = rest.bias;
+                pred.at_rest = true;
                 MRPT_LOG_INFO_FMT("IMU at rest: gyro bias %.4f %.4f %.4f rad/s, tilt vs initial pose %.2f deg",
                                   b.gyro.x(), b.gyro.y(), b.gyro.z(),
                                   imu::tiltDisagreement(rest, pred.T_map_imu.linear()) / kDeg);
@@ -517,6 +584,10 @@ FrameReport Localizer::process(const Scan& scan) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
         } else {
             solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);
+            const auto& fp = params_.features;
+            if (velocity_unknown && !pred.at_rest && lp.sweep_velocity && fp.deskew &&
+                (pred.twist_from_imu || fp.deskew_without_imu) && !rep.diverged)
+                solveSweepVelocity(scan, pred, pred.used_imu ? &pre : nullptr, rep);
         }
         // Step 6: report and state update.
         finish(scan, pred, velocity_unknown, rep);

@@ -66,6 +66,9 @@ struct FrameReport {
     /// velocity unknown, no IMU: the prediction is the motion measured against the last scan
     /// (LocalizationParams::motion_from_last_scan), and the frame was solved as a tracked one
     bool motion_from_scan = false;
+    /// velocity unknown, timed points: the sweep's translation velocity estimated with the pose
+    /// [m/s, LiDAR frame] (LocalizationParams::sweep_velocity); zero when not estimated
+    Vec3d sweep_velocity = Vec3d::Zero();
     bool converged = false;       ///< last round's update below the thresholds
     double last_step_xyz = 0;     ///< [m] the last round's update (translation)
     double last_step_deg = 0;     ///< [deg] the last round's update (rotation)

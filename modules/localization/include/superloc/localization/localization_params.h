@@ -35,6 +35,9 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// that frame's scan (wide, from no motion): the motion it measures is the prediction, and
     /// the frame is then solved in the map as a tracked one (doc/localizer.md, "Unknown velocity")
     bool motion_from_last_scan = true;
+    /// a frame of unknown velocity whose points carry times (deskew on) estimates the sweep's
+    /// translation velocity with its pose, instead of deskewing by rotation alone
+    bool sweep_velocity = true;
     double max_fit_residual = 0.1;     ///< [m] map plane fit RMS giving weight 0
     /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
     /// and slow to converge from a far initial pose, so off by default)

@@ -95,6 +95,7 @@ class Localizer : public mrpt::system::COutputLogger {
         Vec3d v_body = Vec3d::Zero();   ///< [m/s] body-frame velocity for deskew
         bool used_imu = false;        ///< pose predicted by IMU preintegration
         bool twist_from_imu = false;  ///< deskew twist measured by the IMU
+        bool at_rest = false;         ///< first frame: the IMU says the robot is at rest (velocity 0)
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
@@ -110,6 +111,12 @@ class Localizer : public mrpt::system::COutputLogger {
     /// converges with enough inliers, `pred` becomes the pose it measured and true is returned.
     /// The state, correspondences and statistics are left as they were.
     bool motionFromLastScan(Prediction& pred, FrameReport& rep);
+    /// Unknown velocity with per-point times (LocalizationParams::sweep_velocity): the sweep's
+    /// translation velocity, which deskew needs and nothing predicted, estimated with the pose
+    /// from the converged frame's correspondences (a 9-DoF Gauss-Newton step), the features
+    /// deskewed again with it and the frame re-solved as a tracked one, until it settles.
+    void solveSweepVelocity(const Scan& scan, const Prediction& pred, const imu::Preintegration* pre,
+                            FrameReport& rep);
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
