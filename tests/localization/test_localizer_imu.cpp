@@ -5,7 +5,10 @@
 #include <superloc/core/se3.h>
 #include <superloc/localization/localizer.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace superloc;
 using namespace superloc::localization;
@@ -14,11 +17,14 @@ namespace {
 const Vec3d kG(0, 0, -9.81);
 const Vec3d kRoomMin(-6, -4, 0), kRoomMax(6, 4, 3);
 
-struct Motion {  // starts at rest in position, turning at a constant body rate
+struct Motion {  // starts at rest in position (or at v0), turning at a constant body rate
     Mat3d R0 = makePoseRPY(0, 0, 0, 0.02, -0.01, 0.3).linear();
     Vec3d w_b = Vec3d(0.05, -0.03, 0.5);
+    Vec3d v0 = Vec3d::Zero();  ///< [m/s] constant velocity added to the motion (a start in motion)
     Mat3d R(double t) const { return R0 * expSO3(w_b * t); }
-    Vec3d p(double t) const { return {0.4 * (t - std::sin(t)), 0.3 * (1 - std::cos(0.8 * t)), 1.2}; }
+    Vec3d p(double t) const {
+        return Vec3d(0.4 * (t - std::sin(t)) - 2.0, 0.3 * (1 - std::cos(0.8 * t)), 1.2) + v0 * t;
+    }
     Vec3d a(double t) const { return {0.4 * std::sin(t), 0.192 * std::cos(0.8 * t), 0}; }
     SE3d T(double t) const {
         SE3d T = SE3d::Identity();
@@ -81,8 +87,10 @@ struct RunResult {
     size_t imu_frames = 0, deskewed = 0, frames = 0;
 };
 
-RunResult run(bool deskew) {
-    const Motion m;
+RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), std::vector<std::string> set = {},
+              std::vector<double>* errors = nullptr) {
+    Motion m;
+    m.v0 = v0;
     SE3d T_il = SE3d::Identity();
     T_il.translation() = Vec3d(0.05, 0, 0.1);
     map::MapParams mp;
@@ -91,6 +99,9 @@ RunResult run(bool deskew) {
     LocalizerParams p;
     p.features.deskew = deskew;
     p.features.voxel_size = 0.3;
+    for (const auto& kv : set) {
+        if (kv == "sweep_velocity=false") p.loc.sweep_velocity = false;
+    }
     Localizer loc(p, map);
     loc.setInitialPose(m.T(0.1) * T_il);
     RunResult out;
@@ -109,6 +120,7 @@ RunResult run(bool deskew) {
         const FrameReport r = loc.process(sweep(m, T_il, t_scan));
         const SE3d truth = m.T(t_scan) * T_il;
         out.max_dt = std::max(out.max_dt, translationDistance(r.T_map_lidar, truth));
+        if (errors) errors->push_back(translationDistance(r.T_map_lidar, truth));
         out.max_dr_deg = std::max(out.max_dr_deg, rotationAngle(r.T_map_lidar, truth) * 180 / M_PI);
         out.imu_frames += r.used_imu;
         out.deskewed += r.deskewed;
@@ -130,4 +142,22 @@ TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
         << "deskew must matter at 0.5 rad/s";
     std::cout << "deskew on: " << with.max_dt * 100 << " cm, " << with.max_dr_deg << " deg; off: "
               << without.max_dt * 100 << " cm, " << without.max_dr_deg << " deg\n";
+}
+
+// A start in motion (1.6 m/s, turning at 0.5 rad/s from the first sweep on): the first frame
+// estimates its sweep's velocity with its pose ([localization] sweep_velocity), is deskewed by
+// it and hands it to the next frame's IMU prediction. Measured: every frame within 3 mm; without
+// it the first two frames are 6 cm off (deskewed by the gyro alone, then predicted from rest)
+// and the IMU factor carries the error on (2.7 cm at frame 5).
+TEST(LocalizerImu, StartsInMotion) {
+    std::vector<double> on, off;
+    run(true, Vec3d(1.6, 0.3, 0), {}, &on);
+    run(true, Vec3d(1.6, 0.3, 0), {"sweep_velocity=false"}, &off);
+    ASSERT_EQ(on.size(), 20u);
+    ASSERT_EQ(off.size(), 20u);
+    EXPECT_LT(*std::max_element(on.begin(), on.end()), 0.01);
+    EXPECT_GT(off[0], 0.03);
+    EXPECT_GT(off[1], 0.03);
+    std::cout << "start in motion, worst frame: " << *std::max_element(on.begin(), on.end()) * 100
+              << " cm with the sweep velocity, " << *std::max_element(off.begin(), off.end()) * 100 << " cm without\n";
 }

@@ -461,10 +461,20 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked,
         rep.diverged_reason = "inliers";
     }
     if (!pred.used_imu && !rejected) {
-        // Without IMU the velocity is the finite difference of the estimates.
+        // Without IMU the velocity is the finite difference of the estimates. The first frame's
+        // is zero, or the sweep's (solveSweepVelocity: the IMU body's, in the map) when it was
+        // estimated; the next frame then holds it by the fixed prior (the solve's marginal was
+        // taken at zero velocity).
         const double dt = scan.t - prev_.t;
-        cur_.setVelocity(have_prev_ && dt > 0 ? Vec3d((T.translation() - prev_.T_map_imu().translation()) / dt)
-                                              : Vec3d::Zero());
+        if (have_prev_ && dt > 0) {
+            cur_.setVelocity((T.translation() - prev_.T_map_imu().translation()) / dt);
+        } else if (!rep.sweep_velocity.isZero()) {
+            const Mat3d R_il = scan.T_imu_lidar.linear();
+            cur_.setVelocity(T.linear() * (R_il * rep.sweep_velocity - pred.w_body.cross(scan.T_imu_lidar.translation())));
+            cur_marginal_.reset();
+        } else {
+            cur_.setVelocity(Vec3d::Zero());
+        }
     }
     rep.T_map_imu = T;
     rep.T_map_lidar = T * scan.T_imu_lidar;
