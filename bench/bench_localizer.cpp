@@ -5,6 +5,9 @@
 // scan; method=icp with the kd-tree association (default), with the voxel map
 // (association=voxel) and method=ndt in the same run. Counter ate_m: RMSE of the frames timed. Custom counters give the median
 // and p95 per frame and the median per stage [ms]. Not a test: nothing here asserts timings.
+// BM_FrameCampus*: campus-ouster the same way (map from the even scans at 0.1 m, the 26 odd
+// scans 2 s apart, so every frame's velocity is unknown), with the default settings (each such
+// frame measures its motion against the last scan) and with motion_from_last_scan off.
 //   superloc-microbench-localizer [--benchmark_filter=Frame]
 // Data: $SUPERLOC_SHARED_DATA or ../shared/data next to the source tree.
 #include <benchmark/benchmark.h>
@@ -15,6 +18,7 @@
 #include <superloc/localization/localizer.h>
 #include <superloc/eval/timing.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -26,22 +30,60 @@ using namespace superloc::localization;
 namespace fs = std::filesystem;
 
 namespace {
-struct KittiData {
+/// A real split: the odd scans (localized) with their GT, the prior map from the even scans.
+struct SplitData {
     std::vector<Scan> scans;
     Trajectory gt;
     std::shared_ptr<map::PriorMap> map;
 };
 
-const KittiData* kitti() {
-    static std::unique_ptr<KittiData> d;
+fs::path sharedData() {
+    const char* env = std::getenv("SUPERLOC_SHARED_DATA");
+    return env ? fs::path(env) : fs::path(__FILE__).parent_path() / "../../shared/data";
+}
+
+/// campus-ouster: scans/NNNN.pcd in name order, one gt_tum.txt line each.
+const SplitData* campus() {
+    static std::unique_ptr<SplitData> d;
     static bool tried = false;
     if (tried) return d.get();
     tried = true;
-    const char* env = std::getenv("SUPERLOC_SHARED_DATA");
-    const fs::path root = env ? fs::path(env) : fs::path(__FILE__).parent_path() / "../../shared/data";
-    const fs::path dir = root / "kitti00-mini";
+    const fs::path dir = sharedData() / "campus-ouster";
+    if (!fs::exists(dir / "gt_tum.txt")) return nullptr;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir / "scans"))
+        if (e.path().extension() == ".pcd") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    const Trajectory gt = io::loadTum((dir / "gt_tum.txt").string());
+    if (files.size() != gt.size()) return nullptr;
+    auto out = std::make_unique<SplitData>();
+    PointCloud all;
+    for (size_t i = 0; i < files.size(); ++i) {
+        Scan s;
+        s.points = io::loadPointCloud(files[i].string()).points;
+        s.t = gt[i].t;
+        if (i % 2 == 0) {
+            for (const auto& p : s.points) all.points.push_back((gt[i].pose * p.cast<double>()).cast<float>());
+        } else {
+            out->scans.push_back(std::move(s));
+            out->gt.push_back(gt[i]);
+        }
+    }
+    map::MapParams mp;
+    mp.voxel_size = 0;  // voxelized here at 0.1 m, as the suite's prior_voxel
+    out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.1f), mp);
+    d = std::move(out);
+    return d.get();
+}
+
+const SplitData* kitti() {
+    static std::unique_ptr<SplitData> d;
+    static bool tried = false;
+    if (tried) return d.get();
+    tried = true;
+    const fs::path dir = sharedData() / "kitti00-mini";
     if (!fs::exists(dir / "gt_velodyne_tum.txt")) return nullptr;
-    auto out = std::make_unique<KittiData>();
+    auto out = std::make_unique<SplitData>();
     out->gt = io::loadTum((dir / "gt_velodyne_tum.txt").string());
     PointCloud all;
     Trajectory odd;
@@ -86,10 +128,9 @@ LocalizerParams voxelParams() {
     return p;
 }
 
-void BM_Frame(benchmark::State& state, const LocalizerParams& params) {
-    const KittiData* d = kitti();
+void BM_Frame(benchmark::State& state, const LocalizerParams& params, const SplitData* d) {
     if (!d) {
-        state.SkipWithError("kitti00-mini not found (set SUPERLOC_SHARED_DATA)");
+        state.SkipWithError("the data set was not found (set SUPERLOC_SHARED_DATA)");
         return;
     }
     std::unique_ptr<Localizer> loc;
@@ -129,9 +170,19 @@ void BM_Frame(benchmark::State& state, const LocalizerParams& params) {
     state.counters["ate_m"] = total.empty() ? 0 : std::sqrt(se / static_cast<double>(total.size()));
 }
 
-void BM_FrameIcp(benchmark::State& s) { BM_Frame(s, kittiParams("icp")); }
-void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams()); }
-void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt")); }
+void BM_FrameIcp(benchmark::State& s) { BM_Frame(s, kittiParams("icp"), kitti()); }
+void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams(), kitti()); }
+void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti()); }
+/// The default settings with the data set's fact (the scans come undistorted: deskew off).
+LocalizerParams campusParams(bool motion_from_last_scan) {
+    LocalizerParams p;
+    p.loc.method = "icp";
+    p.loc.motion_from_last_scan = motion_from_last_scan;
+    p.features.deskew = false;
+    return p;
+}
+void BM_FrameCampus(benchmark::State& s) { BM_Frame(s, campusParams(true), campus()); }
+void BM_FrameCampusVelocityAssumed(benchmark::State& s) { BM_Frame(s, campusParams(false), campus()); }
 
 /// One recovered frame (no IMU; the relocalization of doc/health.md): scans 0 and 1 tracked, then
 /// scan 2 with its points turned by 45 deg about the sensor's z axis, as if the car had turned
@@ -139,7 +190,7 @@ void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt")); }
 /// `recovered` counter is the share of iterations in which the local search found a pose, the
 /// worst_err_* counters how far that pose is from the truth.
 void BM_RecoveryFrame(benchmark::State& state) {
-    const KittiData* d = kitti();
+    const SplitData* d = kitti();
     if (!d) {
         state.SkipWithError("kitti00-mini not found");
         return;
@@ -177,7 +228,7 @@ void BM_RecoveryFrame(benchmark::State& state) {
 
 /// The association step alone: 2000 features of scan 5 at its GT pose.
 void BM_Association(benchmark::State& state) {
-    const KittiData* d = kitti();
+    const SplitData* d = kitti();
     if (!d) {
         state.SkipWithError("kitti00-mini not found");
         return;
@@ -204,6 +255,8 @@ void BM_Association(benchmark::State& state) {
 BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpVoxel)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
+BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
+BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_Association)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
