@@ -43,11 +43,7 @@ fs::path sharedData() {
 }
 
 /// campus-ouster: scans/NNNN.pcd in name order, one gt_tum.txt line each.
-const SplitData* campus() {
-    static std::unique_ptr<SplitData> d;
-    static bool tried = false;
-    if (tried) return d.get();
-    tried = true;
+std::unique_ptr<SplitData> loadCampus() {
     const fs::path dir = sharedData() / "campus-ouster";
     if (!fs::exists(dir / "gt_tum.txt")) return nullptr;
     std::vector<fs::path> files;
@@ -72,15 +68,15 @@ const SplitData* campus() {
     map::MapParams mp;
     mp.voxel_size = 0;  // voxelized here at 0.1 m, as the suite's prior_voxel
     out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.1f), mp);
-    d = std::move(out);
+    return out;
+}
+
+const SplitData* campus() {
+    static const std::unique_ptr<SplitData> d = loadCampus();
     return d.get();
 }
 
-const SplitData* kitti() {
-    static std::unique_ptr<SplitData> d;
-    static bool tried = false;
-    if (tried) return d.get();
-    tried = true;
+std::unique_ptr<SplitData> loadKitti() {
     const fs::path dir = sharedData() / "kitti00-mini";
     if (!fs::exists(dir / "gt_velodyne_tum.txt")) return nullptr;
     auto out = std::make_unique<SplitData>();
@@ -104,7 +100,11 @@ const SplitData* kitti() {
     map::MapParams mp;
     mp.voxel_size = 0;  // voxelized here at 0.2 m, as superloc-map --voxel 0.2
     out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.2f), mp);
-    d = std::move(out);
+    return out;
+}
+
+const SplitData* kitti() {
+    static const std::unique_ptr<SplitData> d = loadKitti();
     return d.get();
 }
 
