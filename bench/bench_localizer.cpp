@@ -108,12 +108,11 @@ const SplitData* kitti() {
     return d.get();
 }
 
-/// Settings of ini/localize-kitti.ini.
+/// Settings of ini/localize-kitti.ini: the defaults and the data set's facts.
 LocalizerParams kittiParams(const std::string& method) {
     LocalizerParams p;
     p.loc.method = method;
     p.features.min_range = 2.0;
-    p.features.max_range = 60.0;
     p.features.deskew = false;
     return p;
 }

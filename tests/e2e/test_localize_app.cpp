@@ -89,7 +89,7 @@ TEST_F(KittiFixture, EveryScanLocalizedFromFirstGtPose) {
     EXPECT_GT(io::loadPointCloud(out + "/localized_map.pcd").size(), 10000u);
     std::ifstream js(out + "/summary.json");
     const auto summary = nlohmann::json::parse(js);
-    EXPECT_EQ(summary["method"], "icp");
+    EXPECT_EQ(summary["method"], "superloc");  // the preset keeps the default method
     EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
     EXPECT_EQ(summary["gt_frames_matched"].get<size_t>(), 16u);
     EXPECT_NEAR(summary["ate_rmse_vs_rawlog_gt"].get<double>(), s.ate_rmse, 1e-9);
