@@ -1,0 +1,112 @@
+// A frame whose velocity is unknown (doc/localizer.md, "Unknown velocity"): without IMU, its
+// motion measured against the last scan; with timed points, its sweep's velocity estimated with
+// its pose.
+#include <superloc/core/timing.h>
+#include <superloc/features/deskew.h>
+#include <superloc/fusion/scan_factor.h>
+#include <superloc/localization/localizer.h>
+
+#include <algorithm>
+#include <memory>
+
+namespace superloc::localization {
+
+namespace {
+using Clock = SteadyClock;
+}  // namespace
+
+bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
+    // The last scan as a small map: its voxel candidates are one point per features.voxel_size
+    // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    PointCloud cloud;
+    cloud.points = last_scan_points_;
+    std::shared_ptr<const map::PriorMap> scan_map = std::make_shared<const map::PriorMap>(cloud, mp, last_scan_origin_);
+    const Solution saved = solution();
+    const auto saved_marginal = cur_marginal_;
+    std::swap(map_, scan_map);
+    cur_.setPose(prev_.T_map_imu());  // no motion since the last scan
+    FrameReport r;
+    solveIcp(nullptr, /*wide=*/true, r, Solve::LastScan);
+    const InlierStats in = inlierStats(corr_, pts_body_.size(), cur_.T_map_imu(), params_.loc.inlier_dist);
+    const SE3d T = cur_.T_map_imu();
+    std::swap(map_, scan_map);
+    restore(saved);
+    cur_marginal_ = saved_marginal;
+    rep.ms.associate += r.ms.associate;
+    rep.ms.solve += r.ms.solve;
+    // Not "converged" as a criterion: the last scan's 0.5 m candidates leave the last
+    // millimetres hesitant; a wrong motion is caught by the map solve's jump check.
+    if (r.diverged || in.ratio < params_.loc.min_inlier_ratio) return false;
+    pred.T_map_imu = T;
+    return true;
+}
+
+void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, const imu::Preintegration* pre,
+                                   FrameReport& rep) {
+    if (scan.rel_time.size() != scan.size() || feature_idx_.empty()) return;
+    const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
+    if (!(s_min < 0)) return;
+    const Mat3d R_il = scan.T_imu_lidar.linear();
+    const Vec3d w_l = pred.twist_from_imu ? Vec3d(R_il.transpose() * pred.w_body) : Vec3d::Zero();
+    // A prior on the velocity (1 m/s around zero) keeps the step defined where the scene cannot
+    // tell it (along a corridor; vertically, where it looks like roll and pitch); thousands of
+    // correspondences outweigh it wherever the scene does tell it.
+    constexpr double kVelocityPriorSigma = 1.0, kSettled = 0.02;  // [m/s]
+    constexpr int kSteps = 4;
+    Vec3d v_l = Vec3d::Zero();
+    AssociationParams ap = assoc_;
+    std::vector<uint32_t> feature_of;
+    const double inv_var = 1.0 / (params_.fusion.scan_sigma * params_.fusion.scan_sigma);
+    const int rounds_before = rep.rounds, iterations_before = rep.iterations;
+    int rounds = rep.rounds, iterations = rep.iterations;
+    for (int step = 0; step < kSteps && !rep.diverged; ++step) {
+        // The world point of feature f moves by R R_il s_f dv when the sweep velocity (LiDAR
+        // frame) changes by dv: three more columns beside the pose's six.
+        const SE3d T = cur_.T_map_imu();
+        const Mat3d R = T.linear();
+        auto t0 = Clock::now();
+        associate(pts_body_, T, *map_, ap, corr_, last_stats_, &feature_of);
+        rep.ms.associate += msSince(t0);
+        Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
+        Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
+        double r[3], J[18];
+        for (size_t k = 0; k < corr_.size(); ++k) {
+            const Correspondence& c = corr_[k];
+            if (c.weight <= 0) continue;
+            const double s = scan.rel_time[feature_idx_[feature_of[k]]];
+            fusion::correspondenceResidual(c, R, T.translation(), r, J);
+            const int dim = fusion::residualDim(c.type);
+            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>> J6(J, dim, 6);
+            Eigen::Map<const Eigen::VectorXd> res(r, dim);
+            const double w = c.weight * fusion::robustWeight(kernel_, res.norm(), params_.fusion.kernel_scale) * inv_var;
+            Eigen::Matrix<double, Eigen::Dynamic, 9> J9(dim, 9);
+            J9.leftCols<6>() = J6;
+            J9.rightCols<3>() = J6.leftCols<3>() * R * R_il * s;
+            H += w * J9.transpose() * J9;
+            g += w * J9.transpose() * res;
+        }
+        H.bottomRightCorner<3, 3>() += Mat3d::Identity() / (kVelocityPriorSigma * kVelocityPriorSigma);
+        g.tail<3>() += v_l / (kVelocityPriorSigma * kVelocityPriorSigma);
+        const Eigen::Matrix<double, 9, 1> delta = -H.ldlt().solve(g);
+        if (!delta.allFinite()) break;
+        const Vec3d dv = delta.tail<3>();
+        v_l += dv;
+        // Deskew again with the estimate and re-solve from the current pose.
+        t0 = Clock::now();
+        last_motion_ = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
+        features::deskewPoints(scan.points, scan.rel_time, feature_idx_, last_motion_, deskewed_);
+        for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
+        rep.ms.preprocess += msSince(t0);
+        rep.rounds = 0, rep.iterations = 0;
+        solveIcp(pre, /*wide=*/false, rep);
+        rounds += rep.rounds, iterations += rep.iterations;
+        if (dv.norm() < kSettled) break;
+    }
+    rep.rounds = rounds, rep.iterations = iterations;
+    rep.deskewed = rep.deskewed || rounds > rounds_before || iterations > iterations_before;
+    rep.sweep_velocity = v_l;
+}
+
+}  // namespace superloc::localization
