@@ -456,9 +456,10 @@ FrameReport Localizer::process(const Scan& scan) {
 
     // Steps 3-5: association, risk, solve.
     const auto& lp = params_.loc;
-    // Unknown velocity (doc/map.md): the first frame, the second without IMU (no velocity yet),
-    // and a constant-velocity prediction over a gap longer than max_cv_gap start coarse, and
-    // their solved pose is not checked against the prediction (it may be far off, rightly).
+    // Unknown velocity (doc/localizer.md): the first frame, the second without IMU (no velocity
+    // yet), and a constant-velocity prediction over a gap longer than max_cv_gap start coarse,
+    // and their solved pose is not checked against the prediction (it may be far off, rightly);
+    // without IMU, the last scan first measures the motion, and the frame is tracked from it.
     bool velocity_unknown =
         first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
     const bool requested = reloc_pending_ || !hypotheses_.empty();

@@ -56,10 +56,8 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
     constexpr double kVelocityPriorSigma = 1.0, kSettled = 0.02;  // [m/s]
     constexpr int kSteps = 4;
     Vec3d v_l = Vec3d::Zero();
-    AssociationParams ap = assoc_;
     std::vector<uint32_t> feature_of;
     const double inv_var = 1.0 / (params_.fusion.scan_sigma * params_.fusion.scan_sigma);
-    const int rounds_before = rep.rounds, iterations_before = rep.iterations;
     int rounds = rep.rounds, iterations = rep.iterations;
     for (int step = 0; step < kSteps && !rep.diverged; ++step) {
         // The world point of feature f moves by R R_il s_f dv when the sweep velocity (LiDAR
@@ -67,7 +65,7 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         const SE3d T = cur_.T_map_imu();
         const Mat3d R = T.linear();
         auto t0 = Clock::now();
-        associate(pts_body_, T, *map_, ap, corr_, last_stats_, &feature_of);
+        associate(pts_body_, T, *map_, assoc_, corr_, last_stats_, &feature_of);
         rep.ms.associate += msSince(t0);
         Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
         Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
@@ -99,13 +97,13 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         features::deskewPoints(scan.points, scan.rel_time, feature_idx_, last_motion_, deskewed_);
         for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
         rep.ms.preprocess += msSince(t0);
+        rep.deskewed = true;
         rep.rounds = 0, rep.iterations = 0;
         solveIcp(pre, /*wide=*/false, rep);
         rounds += rep.rounds, iterations += rep.iterations;
         if (dv.norm() < kSettled) break;
     }
     rep.rounds = rounds, rep.iterations = iterations;
-    rep.deskewed = rep.deskewed || rounds > rounds_before || iterations > iterations_before;
     rep.sweep_velocity = v_l;
 }
 
