@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <vector>
 
 using namespace superloc;
@@ -87,7 +86,7 @@ struct RunResult {
     size_t imu_frames = 0, deskewed = 0, frames = 0;
 };
 
-RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), std::vector<std::string> set = {},
+RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), bool sweep_velocity = true,
               std::vector<double>* errors = nullptr) {
     Motion m;
     m.v0 = v0;
@@ -99,9 +98,7 @@ RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), std::vector<std::str
     LocalizerParams p;
     p.features.deskew = deskew;
     p.features.voxel_size = 0.3;
-    for (const auto& kv : set) {
-        if (kv == "sweep_velocity=false") p.loc.sweep_velocity = false;
-    }
+    p.loc.sweep_velocity = sweep_velocity;
     Localizer loc(p, map);
     loc.setInitialPose(m.T(0.1) * T_il);
     RunResult out;
@@ -151,8 +148,8 @@ TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
 // and the IMU factor carries the error on (2.7 cm at frame 5).
 TEST(LocalizerImu, StartsInMotion) {
     std::vector<double> on, off;
-    run(true, Vec3d(1.6, 0.3, 0), {}, &on);
-    run(true, Vec3d(1.6, 0.3, 0), {"sweep_velocity=false"}, &off);
+    run(true, Vec3d(1.6, 0.3, 0), true, &on);
+    run(true, Vec3d(1.6, 0.3, 0), false, &off);
     ASSERT_EQ(on.size(), 20u);
     ASSERT_EQ(off.size(), 20u);
     EXPECT_LT(*std::max_element(on.begin(), on.end()), 0.01);

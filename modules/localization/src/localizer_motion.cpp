@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <utility>
 
 namespace superloc::localization {
 
@@ -20,8 +21,9 @@ bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
     // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
     map::MapParams mp;
     mp.voxel_size = 0;
-    PointCloud cloud;
-    cloud.points = last_scan_points_;
+    PointCloud cloud;  // the points are used once: the frame keeps its own scan when it ends
+    cloud.points = std::move(last_scan_points_);
+    last_scan_points_.clear();
     std::shared_ptr<const map::PriorMap> scan_map = std::make_shared<const map::PriorMap>(cloud, mp, last_scan_origin_);
     const Solution saved = solution();
     const auto saved_marginal = cur_marginal_;
@@ -70,20 +72,21 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
         Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
         double r[3], J[18];
+        Eigen::Matrix<double, 3, 9> J9;  // the first residualDim rows are used
         for (size_t k = 0; k < corr_.size(); ++k) {
             const Correspondence& c = corr_[k];
             if (c.weight <= 0) continue;
             const double s = scan.rel_time[feature_idx_[feature_of[k]]];
             fusion::correspondenceResidual(c, R, T.translation(), r, J);
             const int dim = fusion::residualDim(c.type);
-            Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>> J6(J, dim, 6);
-            Eigen::Map<const Eigen::VectorXd> res(r, dim);
+            const Eigen::Map<const Eigen::Matrix<double, 3, 6, Eigen::RowMajor>> J6(J);
+            const Eigen::Map<const Vec3d> res3(r);
+            const auto res = res3.head(dim);
             const double w = c.weight * fusion::robustWeight(kernel_, res.norm(), params_.fusion.kernel_scale) * inv_var;
-            Eigen::Matrix<double, Eigen::Dynamic, 9> J9(dim, 9);
-            J9.leftCols<6>() = J6;
-            J9.rightCols<3>() = J6.leftCols<3>() * R * R_il * s;
-            H += w * J9.transpose() * J9;
-            g += w * J9.transpose() * res;
+            J9.topLeftCorner(dim, 6) = J6.topRows(dim);
+            J9.topRightCorner(dim, 3) = J6.topLeftCorner(dim, 3) * R * R_il * s;
+            H.noalias() += w * J9.topRows(dim).transpose() * J9.topRows(dim);
+            g.noalias() += w * J9.topRows(dim).transpose() * res;
         }
         H.bottomRightCorner<3, 3>() += Mat3d::Identity() / (kVelocityPriorSigma * kVelocityPriorSigma);
         g.tail<3>() += v_l / (kVelocityPriorSigma * kVelocityPriorSigma);

@@ -37,9 +37,10 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     double eigen_threshold = 0.2 / 3.0;
     /// Robust loss on the odom_alt relative-pose prior (superloc and passive alike): `none`,
     /// `huber` or `cauchy` (the scan's robust_kernel names) as a Ceres loss on its whitened
-    /// residual, scale prior_kernel_sigmas (in the prior's own standard deviations). A jump of odom_alt that its covariance does not report is then a
-    /// many-sigma outlier against the IMU / scan evidence, and pulls with a bounded, falling
-    /// force instead of in full (doc/method.md §2).
+    /// residual, scale prior_kernel_sigmas (in the prior's own standard deviations). A jump of
+    /// odom_alt that its covariance does not report is then a many-sigma outlier against the
+    /// IMU / scan evidence, and pulls with a bounded, falling force instead of in full
+    /// (doc/method.md §2).
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 
