@@ -59,6 +59,38 @@ TEST(Preintegration, MatchesAnalyticTrajectory) {
     EXPECT_LT(logSO3(s1.R.transpose() * tr.R(t1)).norm(), 1e-9);
 }
 
+// Per-point deskew along the IMU's trajectory: every intermediate pose follows the analytic
+// path (not a straight line: this one curves and accelerates), the last equals the one-shot
+// prediction, and a time before the start is moved back at the start's velocity.
+TEST(Preintegration, PredictPosesFollowTheTrajectory) {
+    Analytic tr;
+    const double t0 = 0.2, t1 = 0.3;
+    const auto samples = sampleAnalytic(tr, t0 - 0.05, t1 + 0.05, 400);
+    NavState s0;
+    s0.R = tr.R(t0);
+    s0.p = tr.p(t0);
+    s0.v = tr.v(t0);
+    std::vector<double> times = {t0 - 0.01};
+    for (int j = 1; j <= 10; ++j) times.push_back(t0 + 0.01 * j);
+    const auto poses = predictPoses(samples, t0, s0, ImuBias{}, kG, times);
+    ASSERT_EQ(poses.size(), times.size());
+    EXPECT_LT((poses[0].translation() - (tr.p(t0) - 0.01 * tr.v(t0))).norm(), 1e-12);
+    double worst_line = 0;
+    for (size_t j = 1; j < times.size(); ++j) {
+        const double t = times[j];
+        EXPECT_LT((poses[j].translation() - tr.p(t)).norm(), 2e-4) << "t = " << t;
+        EXPECT_LT(logSO3(poses[j].linear().transpose() * tr.R(t)).norm(), 1e-3) << "t = " << t;
+        // What a straight line at the end velocity (the constant-twist deskew) would give.
+        worst_line = std::max(worst_line, (tr.p(t1) - (t1 - t) * tr.v(t1) - tr.p(t)).norm());
+    }
+    EXPECT_GT(worst_line, 5e-3);  // the path is curved enough for the test to mean something
+    Preintegration pre;
+    integrateInterval(samples, t0, t1, pre);
+    const NavState s1 = pre.predict(s0, ImuBias{}, kG);
+    EXPECT_LT((poses.back().translation() - s1.p).norm(), 1e-9);
+    EXPECT_LT(logSO3(poses.back().linear().transpose() * s1.R).norm(), 1e-9);
+}
+
 TEST(Preintegration, BiasCorrectionMatchesReintegration) {
     Analytic tr;
     const ImuBias b_true{Vec3d(0.05, -0.03, 0.08), Vec3d(0.004, 0.002, -0.003)};

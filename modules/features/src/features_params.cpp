@@ -8,6 +8,7 @@ void FeaturesParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     MRPT_LOAD_CONFIG_VAR(min_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_range, double, c, s);
     MRPT_LOAD_CONFIG_VAR(deskew, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(deskew_imu_poses, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(deskew_without_imu, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(voxel_size, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_features, int, c, s);
@@ -19,6 +20,7 @@ void FeaturesParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "[m] drop points closer than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] drop points farther than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(deskew, "undo the sweep motion (per-point time needed)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_imu_poses, "with IMU: deskew along its integrated poses");
     MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_without_imu, "deskew with constant velocity when no IMU");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_size, "[m] one candidate point per voxel");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_features, "max features per scan, spread over candidates");

@@ -122,4 +122,23 @@ size_t integrateInterval(
     return used;
 }
 
+std::vector<SE3d> predictPoses(const std::vector<ImuSample>& samples, double t0, const NavState& start,
+                               const ImuBias& b, const Vec3d& g_map, const std::vector<double>& times) {
+    std::vector<SE3d> out;
+    out.reserve(times.size());
+    Preintegration pre(b);
+    double reached = t0;
+    for (const double tau : times) {
+        if (tau <= t0) {
+            NavState back = start;
+            back.p += start.v * (tau - t0);
+            out.push_back(back.pose());
+            continue;
+        }
+        if (tau > reached) integrateInterval(samples, reached, tau, pre), reached = tau;
+        out.push_back(pre.predict(start, b, g_map).pose());
+    }
+    return out;
+}
+
 }  // namespace superloc::imu

@@ -91,4 +91,11 @@ bool coversInterval(const std::vector<ImuSample>& samples, double t0, double t1,
 size_t integrateInterval(
     const std::vector<ImuSample>& samples, double t0, double t1, Preintegration& pre);
 
+/// The IMU's poses at `times` (increasing) predicted from `start`, the state at t0, by integrating
+/// the samples over [t0, τ] (Preintegration::predict, bias `b`), so that the pose at the last
+/// integrated time equals the frame's own prediction. A time at or before t0 gets `start`
+/// moved back at its velocity. For per-point deskew along the IMU's trajectory.
+std::vector<SE3d> predictPoses(const std::vector<ImuSample>& samples, double t0, const NavState& start,
+                               const ImuBias& b, const Vec3d& g_map, const std::vector<double>& times);
+
 }  // namespace superloc::imu
