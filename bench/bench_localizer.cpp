@@ -8,11 +8,14 @@
 // BM_FrameCampus*: campus-ouster the same way (map from the even scans at 0.1 m, the 26 odd
 // scans 2 s apart, so every frame's velocity is unknown), with the default settings (each such
 // frame measures its motion against the last scan) and with motion_from_last_scan off.
+// BM_DeskewSweep: the deskew of one sweep, one constant twist vs the IMU's poses.
 //   superloc-microbench-localizer [--benchmark_filter=Frame]
 // Data: $SUPERLOC_SHARED_DATA or ../shared/data next to the source tree.
 #include <benchmark/benchmark.h>
 #include <superloc/core/se3.h>
 #include <superloc/core/voxel.h>
+#include <superloc/features/deskew.h>
+#include <superloc/imu/preintegration.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 #include <superloc/localization/localizer.h>
@@ -249,8 +252,55 @@ void BM_Association(benchmark::State& state) {
         benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate |
                                                                 benchmark::Counter::kInvert);
 }
+/// Deskew of one sweep's 2000 features (doc/localizer.md step 2): Arg(0) one constant twist
+/// (SweepMotion::fromTwist), Arg(1) along the IMU's trajectory (imu::predictPoses from the
+/// previous state at 17 times over the 0.1 s sweep, 200 Hz samples, then
+/// SweepMotion::fromSamples), the default with IMU. Both include deskewing the 2000 points.
+void BM_DeskewSweep(benchmark::State& state) {
+    std::vector<Vec3f> points(2000);
+    std::vector<float> rel(points.size());
+    std::vector<uint32_t> idx(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const double a = 0.01 * static_cast<double>(i);
+        points[i] = Vec3f(static_cast<float>(10 * std::cos(a)), static_cast<float>(10 * std::sin(a)), 1.0f);
+        rel[i] = -0.1f + 0.1f * static_cast<float>(i) / static_cast<float>(points.size());
+        idx[i] = static_cast<uint32_t>(i);
+    }
+    std::vector<ImuSample> imu;
+    for (int k = 0; k <= 44; ++k) {  // 0.22 s at 200 Hz around the sweep
+        ImuSample s;
+        s.t = 0.9 + 0.005 * k;
+        s.acc = Vec3d(0.5, 0.1 * std::sin(0.3 * k), 9.81 + std::sin(k));
+        s.gyro = Vec3d(0.01, -0.02, 0.5);
+        imu.push_back(s);
+    }
+    imu::NavState prev;
+    prev.v = Vec3d(5, 0, 0);
+    const double t = 1.1, s_min = -0.1;
+    std::vector<Vec3f> out;
+    for (auto _ : state) {
+        features::SweepMotion motion;
+        if (state.range(0) == 0) {
+            motion = features::SweepMotion::fromTwist(Vec3d(5, 0, 0), Vec3d(0.01, -0.02, 0.5), -s_min);
+        } else {
+            std::vector<double> sv(17), times(17);
+            for (int j = 0; j <= 16; ++j) {
+                sv[static_cast<size_t>(j)] = s_min * (16 - j) / 16;
+                times[static_cast<size_t>(j)] = t + sv[static_cast<size_t>(j)];
+            }
+            const auto T = imu::predictPoses(imu, 1.0, prev, imu::ImuBias{}, Vec3d(0, 0, -9.81), times);
+            const SE3d T_end_inv = T.back().inverse();
+            std::vector<SE3d> rel_T(T.size());
+            for (size_t j = 0; j < T.size(); ++j) rel_T[j] = T_end_inv * T[j];
+            motion = features::SweepMotion::fromSamples(sv, rel_T);
+        }
+        features::deskewPoints(points, rel, idx, motion, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+}
 }  // namespace
 
+BENCHMARK(BM_DeskewSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpVoxel)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
