@@ -253,9 +253,9 @@ void BM_Association(benchmark::State& state) {
                                                                 benchmark::Counter::kInvert);
 }
 /// Deskew of one sweep's 2000 features (doc/localizer.md step 2): Arg(0) one constant twist
-/// (SweepMotion::fromTwist), Arg(1) along the IMU's trajectory (imu::predictPoses from the
-/// previous state at 17 times over the 0.1 s sweep, 200 Hz samples, then
-/// SweepMotion::fromSamples), the default with IMU. Both include deskewing the 2000 points.
+/// (SweepMotion::fromTwist), Arg(1) along the IMU's trajectory (imu::sweepPoses: the poses
+/// predicted from the previous state at 17 times over the 0.1 s sweep, 200 Hz samples, then
+/// SweepMotion::fromSamples), the default with IMU, as Localizer::preprocess does it. Both include deskewing the 2000 points.
 void BM_DeskewSweep(benchmark::State& state) {
     std::vector<Vec3f> points(2000);
     std::vector<float> rel(points.size());
@@ -283,16 +283,9 @@ void BM_DeskewSweep(benchmark::State& state) {
         if (state.range(0) == 0) {
             motion = features::SweepMotion::fromTwist(Vec3d(5, 0, 0), Vec3d(0.01, -0.02, 0.5), -s_min);
         } else {
-            std::vector<double> sv(17), times(17);
-            for (int j = 0; j <= 16; ++j) {
-                sv[static_cast<size_t>(j)] = s_min * (16 - j) / 16;
-                times[static_cast<size_t>(j)] = t + sv[static_cast<size_t>(j)];
-            }
-            const auto T = imu::predictPoses(imu, 1.0, prev, imu::ImuBias{}, Vec3d(0, 0, -9.81), times);
-            const SE3d T_end_inv = T.back().inverse();
-            std::vector<SE3d> rel_T(T.size());
-            for (size_t j = 0; j < T.size(); ++j) rel_T[j] = T_end_inv * T[j];
-            motion = features::SweepMotion::fromSamples(sv, rel_T);
+            const auto sp = imu::sweepPoses(imu, 1.0, prev, imu::ImuBias{}, Vec3d(0, 0, -9.81), t, s_min,
+                                            SE3d::Identity());
+            motion = features::SweepMotion::fromSamples(sp.s, sp.T_end_s);
         }
         features::deskewPoints(points, rel, idx, motion, out);
         benchmark::DoNotOptimize(out.data());

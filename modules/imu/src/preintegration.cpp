@@ -141,4 +141,20 @@ std::vector<SE3d> predictPoses(const std::vector<ImuSample>& samples, double t0,
     return out;
 }
 
+SweepPoses sweepPoses(const std::vector<ImuSample>& samples, double t0, const NavState& start, const ImuBias& b,
+                      const Vec3d& g_map, double t_scan, double s_min, const SE3d& T_imu_sensor, int n) {
+    SweepPoses out;
+    std::vector<double> times(static_cast<size_t>(n) + 1);
+    out.s.resize(times.size());
+    for (int j = 0; j <= n; ++j) {
+        out.s[static_cast<size_t>(j)] = s_min * (n - j) / n;
+        times[static_cast<size_t>(j)] = t_scan + out.s[static_cast<size_t>(j)];
+    }
+    const std::vector<SE3d> T_map_imu = predictPoses(samples, t0, start, b, g_map, times);
+    const SE3d T_sensor_end_map = (T_map_imu.back() * T_imu_sensor).inverse();
+    out.T_end_s.resize(T_map_imu.size());
+    for (size_t j = 0; j < T_map_imu.size(); ++j) out.T_end_s[j] = T_sensor_end_map * T_map_imu[j] * T_imu_sensor;
+    return out;
+}
+
 }  // namespace superloc::imu

@@ -115,22 +115,6 @@ Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
     return pr;
 }
 
-features::SweepMotion Localizer::imuSweepMotion(const Scan& scan, double s_min) const {
-    // The LiDAR's poses over the sweep, relative to its pose at the scan time, from the IMU poses
-    // the previous state and the samples predict (the last one is this frame's prediction).
-    constexpr int kSamples = 16;
-    std::vector<double> s(kSamples + 1), times(kSamples + 1);
-    for (int j = 0; j <= kSamples; ++j) {
-        s[j] = s_min * (kSamples - j) / kSamples;
-        times[j] = scan.t + s[j];
-    }
-    const std::vector<SE3d> T_map_imu = imu::predictPoses(imu_, prev_.t, prev_.nav(), prev_.bias(), g_map_, times);
-    const SE3d T_lidar_end_map = (T_map_imu.back() * scan.T_imu_lidar).inverse();
-    std::vector<SE3d> T_end_s(T_map_imu.size());
-    for (size_t j = 0; j < T_map_imu.size(); ++j) T_end_s[j] = T_lidar_end_map * T_map_imu[j] * scan.T_imu_lidar;
-    return features::SweepMotion::fromSamples(s, T_end_s);
-}
-
 void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep) {
     const auto& fp = params_.features;
     rep.points_raw = scan.size();
@@ -149,7 +133,11 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
         const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
         if (s_min < 0) {
             if (fp.deskew_imu_poses && pred.used_imu) {
-                motion = imuSweepMotion(scan, s_min);
+                // Along the IMU's trajectory from the previous state (its last pose is this
+                // frame's prediction).
+                const auto sp = imu::sweepPoses(imu_, prev_.t, prev_.nav(), prev_.bias(), g_map_, scan.t, s_min,
+                                                scan.T_imu_lidar);
+                motion = features::SweepMotion::fromSamples(sp.s, sp.T_end_s);
             } else {
                 const Mat3d R_il = scan.T_imu_lidar.linear();
                 const Vec3d w_l = R_il.transpose() * pred.w_body;

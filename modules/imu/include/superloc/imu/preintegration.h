@@ -98,4 +98,15 @@ size_t integrateInterval(
 std::vector<SE3d> predictPoses(const std::vector<ImuSample>& samples, double t0, const NavState& start,
                                const ImuBias& b, const Vec3d& g_map, const std::vector<double>& times);
 
+/// A sensor's motion over one sweep [t_scan + s_min, t_scan] (s_min < 0) along the IMU's predicted
+/// trajectory (predictPoses from `start` at t0): at n + 1 relative times s from s_min to 0, the
+/// pose of the sensor (mounted at T_imu_sensor) at t_scan + s expressed in its own frame at
+/// t_scan. For per-point deskew (features::SweepMotion::fromSamples).
+struct SweepPoses {
+    std::vector<double> s;
+    std::vector<SE3d> T_end_s;
+};
+SweepPoses sweepPoses(const std::vector<ImuSample>& samples, double t0, const NavState& start, const ImuBias& b,
+                      const Vec3d& g_map, double t_scan, double s_min, const SE3d& T_imu_sensor, int n = 16);
+
 }  // namespace superloc::imu

@@ -99,8 +99,6 @@ class Localizer : public mrpt::system::COutputLogger {
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
-    /// The sweep's motion along the IMU's trajectory from the previous state (deskew_imu_poses).
-    features::SweepMotion imuSweepMotion(const Scan& scan, double s_min) const;
     /// Steps 3-5 from the current state's pose; `wide`: first-frame search radius and rounds.
     /// What a solve is for. Track: this frame in the prior map. Hypothesis: verifying a pose of
     /// the global search (voxel association whatever the tracking one, no odom_alt prior, no
