@@ -12,6 +12,7 @@
 #include <superloc/map/prior_map.h>
 #include <superloc_testing/testing.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -56,6 +57,15 @@ inline RealSplit prepareRealSplit(const std::string& name, const std::string& da
     io::savePointCloud(s.map, b.build());
     s.ok = true;
     return s;
+}
+
+/// A pose as `--initial-pose` takes it: "x y z qx qy qz qw".
+inline std::string poseString(const SE3d& T) {
+    const Eigen::Quaterniond q(T.linear());
+    char b[256];
+    std::snprintf(b, sizeof(b), "%.9f %.9f %.9f %.12f %.12f %.12f %.12f", T.translation().x(), T.translation().y(),
+                  T.translation().z(), q.x(), q.y(), q.z(), q.w());
+    return b;
 }
 
 /// The scans `scans` of a rawlog with their GT poses (interpolated at each scan's time).

@@ -1,9 +1,8 @@
-// End to end: superloc-localize on kitti00-mini (16 real scans) with a prior map built from its
-// own scans at the ground-truth poses (0.2 m voxels), from the first GT pose and from a
-// perturbed start; plus the command-line contract (help, dump-config, errors, outputs).
-// CIRCULAR SANITY CHECK: every scan is in the map it is localized in, so these accuracies say
-// that the pipeline is wired right, not how well it localizes; the honest figures (map from
-// other scans) are test_localize_real.cpp's and doc/map.md's.
+// End to end: superloc-localize on kitti00-mini (16 real scans) by the honest split: the prior
+// map from the even scans at their ground-truth poses (0.2 m voxels), the 8 odd scans localized
+// (never a scan in a map that holds it), from the first odd GT pose, from a perturbed start and
+// from no pose; plus the command-line contract (help, dump-config, errors, outputs). The
+// accuracy bounds are the split's (RealSplitRuns.* and doc/results.md have the analysis).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <superloc/core/config.h>
@@ -14,6 +13,8 @@
 #include <superloc/io/tum.h>
 #include <superloc/app/localize_app.h>
 #include <superloc_testing/testing.h>
+
+#include "real_split.h"
 
 #include <cmath>
 #include <cstdio>
@@ -29,29 +30,21 @@ namespace {
 struct KittiFixture : public ::testing::Test {
     static inline std::string dir, rawlog, map, gt;
     static void SetUpTestSuite() {
-        const std::string data = superloc::testing::sharedData("kitti00-mini/");
-        if (!fs::exists(data + "gt_velodyne_tum.txt")) return;
-        dir = superloc::testing::freshDir("e2e_kitti");
-        rawlog = dir + "/kitti.rawlog";
-        map = dir + "/map.pcd";
-        gt = data + "gt_velodyne_tum.txt";
-        io::importKitti(data, gt, "", rawlog);
-        // The prior map: every scan at its GT pose, voxelized at 0.2 m.
-        const Trajectory poses = io::loadTum(gt);
-        PointCloud all;
-        for (size_t i = 0; i < poses.size(); ++i) {
-            char name[64];
-            std::snprintf(name, sizeof(name), "velodyne/%06zu.bin", i);
-            const PointCloud scan = io::loadPointCloud(data + name);
-            for (const auto& p : scan.points) all.points.push_back((poses[i].pose * p.cast<double>()).cast<float>());
-        }
-        io::savePointCloud(map, voxelDownsample(all, 0.2f));
+        // The prior map from the even scans (0.2 m voxels); the runs localize the odd ones, never
+        // a scan in a map that holds it.
+        const auto split = superloc::testing::prepareRealSplit("e2e_kitti", "kitti00-mini", "even", 0.2);
+        if (!split.ok) return;
+        dir = split.dir;
+        rawlog = split.rawlog;
+        map = split.map;
+        gt = split.gt_tum;
     }
     void SetUp() override { SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt"); }
 
     static LocalizeApp::Action init(LocalizeApp& app, std::vector<std::string> extra) {
         std::vector<std::string> args = {superloc::testing::sourcePath("ini/localize-kitti.ini"),
-                                          "--rawlog", rawlog, "--map", map, "--quiet"};
+                                          "--rawlog", rawlog, "--map", map, "--set", "rawlog.scans=odd",
+                                          "--quiet"};
         args.insert(args.end(), extra.begin(), extra.end());
         return app.initialize(args);
     }
@@ -65,19 +58,20 @@ size_t countLines(const std::string& path) {
 }
 }  // namespace
 
-TEST_F(KittiFixture, EveryScanLocalizedFromFirstGtPose) {
+TEST_F(KittiFixture, OddScansLocalizedFromFirstGtPose) {
     LocalizeApp app;
     const std::string out = dir + "/out-gt";
     ASSERT_EQ(init(app, {"--out", out, "--initial-pose-tum", gt}), LocalizeApp::Action::Run);
     ASSERT_EQ(app.run(), 0);
     const RunSummary& s = app.summary();
-    EXPECT_EQ(s.frames, 16u);
+    EXPECT_EQ(s.frames, 8u);
     EXPECT_EQ(s.diverged, 0u);
-    EXPECT_EQ(s.gt_matched, 16u);
-    EXPECT_LT(s.ate_rmse, 0.03) << "ATE RMSE [m]";
+    EXPECT_EQ(s.gt_matched, 8u);
+    // Measured 0.179 m: the split's figure (doc/results.md, "KITTI split"; RealSplitRuns.*).
+    EXPECT_LT(s.ate_rmse, 0.25) << "ATE RMSE [m]";
     // Outputs, progressively written: one line per frame (+ header), loadable map.
-    EXPECT_EQ(countLines(out + "/trajectory.tum"), 16u);
-    EXPECT_EQ(countLines(out + "/frames.csv"), 17u);
+    EXPECT_EQ(countLines(out + "/trajectory.tum"), 8u);
+    EXPECT_EQ(countLines(out + "/frames.csv"), 9u);
     std::ifstream csv(out + "/frames.csv");
     std::string header;
     std::getline(csv, header);
@@ -90,8 +84,8 @@ TEST_F(KittiFixture, EveryScanLocalizedFromFirstGtPose) {
     std::ifstream js(out + "/summary.json");
     const auto summary = nlohmann::json::parse(js);
     EXPECT_EQ(summary["method"], "superloc");  // the preset keeps the default method
-    EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
-    EXPECT_EQ(summary["gt_frames_matched"].get<size_t>(), 16u);
+    EXPECT_EQ(summary["frames"].get<size_t>(), 8u);
+    EXPECT_EQ(summary["gt_frames_matched"].get<size_t>(), 8u);
     EXPECT_NEAR(summary["ate_rmse_vs_rawlog_gt"].get<double>(), s.ate_rmse, 1e-9);
     EXPECT_NEAR(summary["ms_per_frame_p95"].get<double>(), s.ms_p95, 1e-9);
     EXPECT_EQ(summary["frames_flagged_per_axis"].size(), 6u);
@@ -99,16 +93,25 @@ TEST_F(KittiFixture, EveryScanLocalizedFromFirstGtPose) {
               << " ms\n";
 }
 
-TEST_F(KittiFixture, EveryScanLocalizedFromPerturbedStart) {
-    // First pose (identity) moved by 0.5 m, 0.5 m, 0.2 m and 5 deg of yaw.
+TEST_F(KittiFixture, OddScansLocalizedFromPerturbedStart) {
+    // The first odd scan's GT pose moved by 0.5 m, 0.5 m, 0.2 m and 5 deg of yaw.
+    SE3d T0 = io::loadTum(gt).at(1).pose;
+    T0.translation() += Vec3d(0.5, 0.5, 0.2);
+    T0.linear() = Eigen::AngleAxisd(5 * M_PI / 180, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
     LocalizeApp app;
-    ASSERT_EQ(init(app, {"--out", dir + "/out-perturbed", "--initial-pose",
-                         "0.5 0.5 0.2 0 0 0.0436193874 0.9990482216"}),
+    ASSERT_EQ(init(app, {"--out", dir + "/out-perturbed", "--initial-pose", superloc::testing::poseString(T0)}),
               LocalizeApp::Action::Run);
     ASSERT_EQ(app.run(), 0);
-    EXPECT_EQ(app.summary().frames, 16u);
-    EXPECT_LT(app.summary().ate_rmse, 0.05) << "ATE RMSE [m]";
-    std::cout << "kitti00-mini from perturbed start: ATE " << app.summary().ate_rmse << " m\n";
+    EXPECT_EQ(app.summary().frames, 8u);
+    // Measured: ATE 0.403 m. The first four frames settle 0.13-0.85 m behind along the road,
+    // reported ok (doc/health.md: no fit statistic separates that basin on this map); from the
+    // fifth on every frame is within 7 cm.
+    EXPECT_LT(app.summary().ate_rmse, 0.5) << "ATE RMSE [m]";
+    const Trajectory est = io::loadTum(dir + "/out-perturbed/trajectory.tum"), truth = io::loadTum(gt);
+    ASSERT_EQ(est.size(), 8u);
+    for (size_t i = 4; i < 8; ++i)
+        EXPECT_LT(translationDistance(est[i].pose, truth.at(2 * i + 1).pose), 0.1) << "odd frame " << i;
+    std::cout << "kitti00-mini split from perturbed start: ATE " << app.summary().ate_rmse << " m\n";
 }
 
 TEST_F(KittiFixture, FarInitialPoseIsAnErrorOrAGlobalStart) {
@@ -126,28 +129,26 @@ TEST_F(KittiFixture, FarInitialPoseIsAnErrorOrAGlobalStart) {
             EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
         }
     }
-    // ...or, with out_of_map = global, the first scan localized by the global search. The map
-    // holds every scan here (a sanity check of the plumbing, not an accuracy figure: the honest
-    // numbers are GlobalLocalization.*).
+    // ...or, with out_of_map = global, the first scan localized by the global search (the
+    // plumbing; the global search's own figures are GlobalLocalization.*).
     LocalizeApp app;
     const std::string out = dir + "/out-far-global";
     ASSERT_EQ(init(app, {"--out", out, "--initial-pose", "1e300 1e300 0 0 0 0 1", "--set",
                          "relocalization.out_of_map=global"}),
               LocalizeApp::Action::Run);
     app.run();
-    // Measured: with this INI the first 7 scans leave x weakly constrained (gamma_x < 0.3): each
-    // is reported lost (ambiguous, weak_x) and the next one searches again; scan 7 is accepted
-    // 3 cm off and the rest tracked within 2.5 cm.
-    EXPECT_EQ(app.summary().frames, 16u);
+    // Measured: the first odd scan is accepted 0.13 m off; the next three then settle up to
+    // 0.85 m behind along the road (as from a perturbed start, above), the last four within 7 cm.
+    EXPECT_EQ(app.summary().frames, 8u);
     std::ifstream js(out + "/summary.json");
     const auto summary = nlohmann::json::parse(js);
-    EXPECT_EQ(summary["frames"].get<size_t>(), 16u);
-    EXPECT_LE(summary["frames_health"]["lost"].get<size_t>(), 8u);
-    EXPECT_GE(summary["frames_health"]["ok"].get<size_t>(), 7u);
+    EXPECT_EQ(summary["frames"].get<size_t>(), 8u);
+    EXPECT_LE(summary["frames_health"]["lost"].get<size_t>(), 4u);
+    EXPECT_GE(summary["frames_health"]["ok"].get<size_t>(), 4u);
     const Trajectory est = io::loadTum(out + "/trajectory.tum"), truth = io::loadTum(gt);
-    ASSERT_EQ(est.size(), 16u);
-    for (size_t i = 9; i < 16; ++i)
-        EXPECT_LT(translationDistance(est[i].pose, truth[i].pose), 0.1) << "frame " << i;
+    ASSERT_EQ(est.size(), 8u);
+    for (size_t i = 4; i < 8; ++i)
+        EXPECT_LT(translationDistance(est[i].pose, truth.at(2 * i + 1).pose), 0.1) << "odd frame " << i;
 }
 
 TEST_F(KittiFixture, CommandLineContract) {

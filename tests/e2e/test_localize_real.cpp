@@ -23,14 +23,6 @@ using namespace superloc;
 using namespace superloc::localization;
 
 namespace {
-std::string poseString(const SE3d& T) {
-    const Eigen::Quaterniond q(T.linear());
-    char b[256];
-    std::snprintf(b, sizeof(b), "%.9f %.9f %.9f %.12f %.12f %.12f %.12f", T.translation().x(), T.translation().y(),
-                  T.translation().z(), q.x(), q.y(), q.z(), q.w());
-    return b;
-}
-
 class RealSplitRuns : public ::testing::Test {
  protected:
     static void SetUpTestSuite() {
@@ -168,7 +160,7 @@ TEST_F(RealSplitRuns, KittiOddScansInEvenMapFromPerturbedStart) {
     T0.translation() += Vec3d(1.0, 1.0, 0.2);
     T0.linear() = T0.linear() * Eigen::AngleAxisd(10 * M_PI / 180, Vec3d::UnitZ()).toRotationMatrix();
     for (const std::string method : {"superloc", "icp"}) {
-        const auto r = localize(kitti_, "perturbed_" + method, {"--initial-pose", poseString(T0), "--method", method});
+        const auto r = localize(kitti_, "perturbed_" + method, {"--initial-pose", superloc::testing::poseString(T0), "--method", method});
         EXPECT_EQ(r.frames.size(), 8u);
         EXPECT_LT(r.ate, 0.35) << method << ": ATE RMSE [m]";
         std::cout << "kitti split, " << method << ", start 1.0/1.0/0.2 m 10 deg off: ATE " << r.ate << " m, worst "
