@@ -91,21 +91,29 @@ struct RunResult {
     size_t imu_frames = 0, deskewed = 0, frames = 0;
 };
 
-RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), bool sweep_velocity = true,
-              std::vector<double>* errors = nullptr, double bob = 0, bool imu_poses = true) {
+struct RunOptions {
+    bool deskew = true;
+    Vec3d v0 = Vec3d::Zero();     ///< Motion::v0
+    double bob = 0;               ///< Motion::bob
+    bool sweep_velocity = true;   ///< [localization] sweep_velocity
+    bool imu_poses = true;        ///< [features] deskew_imu_poses
+};
+
+/// 20 sweeps of the motion through the Localizer; per-frame translation errors into `errors`.
+RunResult run(const RunOptions& o, std::vector<double>* errors = nullptr) {
     Motion m;
-    m.v0 = v0;
-    m.bob = bob;
+    m.v0 = o.v0;
+    m.bob = o.bob;
     SE3d T_il = SE3d::Identity();
     T_il.translation() = Vec3d(0.05, 0, 0.1);
     map::MapParams mp;
     mp.voxel_size = 0.1;
     auto map = std::make_shared<map::PriorMap>(boxSurface(0.05), mp, Vec3f(0, 0, 1.5));
     LocalizerParams p;
-    p.features.deskew = deskew;
+    p.features.deskew = o.deskew;
     p.features.voxel_size = 0.3;
-    p.loc.sweep_velocity = sweep_velocity;
-    p.features.deskew_imu_poses = imu_poses;
+    p.loc.sweep_velocity = o.sweep_velocity;
+    p.features.deskew_imu_poses = o.imu_poses;
     Localizer loc(p, map);
     loc.setInitialPose(m.T(0.1) * T_il);
     RunResult out;
@@ -136,12 +144,14 @@ RunResult run(bool deskew, const Vec3d& v0 = Vec3d::Zero(), bool sweep_velocity 
 }  // namespace
 
 TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
-    const RunResult with = run(true);
+    const RunResult with = run({});
     EXPECT_EQ(with.imu_frames, with.frames - 1);  // all but the first
     EXPECT_EQ(with.deskewed, with.frames);        // the first by the gyro alone
     EXPECT_LT(with.max_dt, 0.005) << "worst translation error [m]";
     EXPECT_LT(with.max_dr_deg, 0.05) << "worst rotation error [deg]";
-    const RunResult without = run(false);
+    RunOptions off;
+    off.deskew = false;
+    const RunResult without = run(off);
     EXPECT_GT(without.max_dt + 0.01 * without.max_dr_deg, 2 * (with.max_dt + 0.01 * with.max_dr_deg))
         << "deskew must matter at 0.5 rad/s";
     std::cout << "deskew on: " << with.max_dt * 100 << " cm, " << with.max_dr_deg << " deg; off: "
@@ -155,8 +165,11 @@ TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
 // and the IMU factor carries the error on (2.7 cm at frame 5).
 TEST(LocalizerImu, StartsInMotion) {
     std::vector<double> on, off;
-    run(true, Vec3d(1.6, 0.3, 0), true, &on);
-    run(true, Vec3d(1.6, 0.3, 0), false, &off);
+    RunOptions moving;
+    moving.v0 = Vec3d(1.6, 0.3, 0);
+    run(moving, &on);
+    moving.sweep_velocity = false;
+    run(moving, &off);
     ASSERT_EQ(on.size(), 20u);
     ASSERT_EQ(off.size(), 20u);
     EXPECT_LT(*std::max_element(on.begin(), on.end()), 0.01);
@@ -172,8 +185,11 @@ TEST(LocalizerImu, StartsInMotion) {
 // deskew_imu_poses, doc/method.md §3).
 TEST(LocalizerImu, DeskewFollowsTheImuThroughTheSweep) {
     std::vector<double> poses, twist;
-    run(true, Vec3d::Zero(), true, &poses, 0.01, true);
-    run(true, Vec3d::Zero(), true, &twist, 0.01, false);
+    RunOptions bobbing;
+    bobbing.bob = 0.01;
+    run(bobbing, &poses);
+    bobbing.imu_poses = false;
+    run(bobbing, &twist);
     ASSERT_EQ(poses.size(), 20u);
     ASSERT_EQ(twist.size(), 20u);
     // From the 10th frame on: the first frame (deskewed by the gyro alone, its velocity estimated
