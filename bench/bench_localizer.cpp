@@ -45,16 +45,10 @@ fs::path sharedData() {
     return env ? fs::path(env) : fs::path(__FILE__).parent_path() / "../../shared/data";
 }
 
-/// campus-ouster: scans/NNNN.pcd in name order, one gt_tum.txt line each.
-std::unique_ptr<SplitData> loadCampus() {
-    const fs::path dir = sharedData() / "campus-ouster";
-    if (!fs::exists(dir / "gt_tum.txt")) return nullptr;
-    std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(dir / "scans"))
-        if (e.path().extension() == ".pcd") files.push_back(e.path());
-    std::sort(files.begin(), files.end());
-    const Trajectory gt = io::loadTum((dir / "gt_tum.txt").string());
-    if (files.size() != gt.size()) return nullptr;
+/// The split of one scan file per GT pose: the even scans at their GT poses make the prior map
+/// (voxelized at `voxel`), the odd ones are localized.
+std::unique_ptr<SplitData> splitEvenOdd(const std::vector<fs::path>& files, const Trajectory& gt, float voxel) {
+    if (files.size() != gt.size() || files.empty()) return nullptr;
     auto out = std::make_unique<SplitData>();
     PointCloud all;
     for (size_t i = 0; i < files.size(); ++i) {
@@ -69,9 +63,20 @@ std::unique_ptr<SplitData> loadCampus() {
         }
     }
     map::MapParams mp;
-    mp.voxel_size = 0;  // voxelized here at 0.1 m, as the suite's prior_voxel
-    out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.1f), mp);
+    mp.voxel_size = 0;  // voxelized here, as the suite's prior map
+    out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, voxel), mp);
     return out;
+}
+
+/// campus-ouster: scans/NNNN.pcd in name order, one gt_tum.txt line each; map at 0.1 m.
+std::unique_ptr<SplitData> loadCampus() {
+    const fs::path dir = sharedData() / "campus-ouster";
+    if (!fs::exists(dir / "gt_tum.txt")) return nullptr;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir / "scans"))
+        if (e.path().extension() == ".pcd") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    return splitEvenOdd(files, io::loadTum((dir / "gt_tum.txt").string()), 0.1f);
 }
 
 const SplitData* campus() {
@@ -79,31 +84,19 @@ const SplitData* campus() {
     return d.get();
 }
 
+/// kitti00-mini: velodyne/NNNNNN.bin, one gt_velodyne_tum.txt line each; map at 0.2 m, as
+/// superloc-map --voxel 0.2.
 std::unique_ptr<SplitData> loadKitti() {
     const fs::path dir = sharedData() / "kitti00-mini";
     if (!fs::exists(dir / "gt_velodyne_tum.txt")) return nullptr;
-    auto out = std::make_unique<SplitData>();
-    out->gt = io::loadTum((dir / "gt_velodyne_tum.txt").string());
-    PointCloud all;
-    Trajectory odd;
-    for (size_t i = 0; i < out->gt.size(); ++i) {
+    const Trajectory gt = io::loadTum((dir / "gt_velodyne_tum.txt").string());
+    std::vector<fs::path> files;
+    for (size_t i = 0; i < gt.size(); ++i) {
         char name[64];
         std::snprintf(name, sizeof(name), "velodyne/%06zu.bin", i);
-        Scan s;
-        s.points = io::loadPointCloud((dir / name).string()).points;
-        s.t = out->gt[i].t;
-        if (i % 2 == 0) {  // the map: even scans
-            for (const auto& p : s.points) all.points.push_back((out->gt[i].pose * p.cast<double>()).cast<float>());
-        } else {  // localized: odd scans
-            out->scans.push_back(std::move(s));
-            odd.push_back(out->gt[i]);
-        }
+        files.push_back(dir / name);
     }
-    out->gt = odd;
-    map::MapParams mp;
-    mp.voxel_size = 0;  // voxelized here at 0.2 m, as superloc-map --voxel 0.2
-    out->map = std::make_shared<map::PriorMap>(voxelDownsample(all, 0.2f), mp);
-    return out;
+    return splitEvenOdd(files, gt, 0.2f);
 }
 
 const SplitData* kitti() {
