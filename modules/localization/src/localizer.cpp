@@ -519,6 +519,9 @@ FrameReport Localizer::process(const Scan& scan) {
         finish(scan, pred, velocity_unknown, rep);
     }
     assess(rep);
+    // A given start is checked within its uncertainty (localizer_relocalize.cpp).
+    if (first && !requested && initial_T_map_lidar_ && search_ && rep.health != Health::Lost)
+        verifyStart(scan, pred, rep);
     // Step 7 (localizer_relocalize.cpp): a lost or doubtful frame searches the map (unless this
     // frame was the search's already), then the state carried to the next frame.
     recoverIfLost(scan, pred, !requested, rep);

@@ -39,7 +39,8 @@ void Localizer::restore(const Solution& s) {
     last_T_map_lidar_ = s.T_map_lidar;
 }
 
-FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base) {
+FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base,
+                                        Solve kind) {
     FrameReport r = base;
     r.diverged = false;
     r.diverged_reason.clear();
@@ -47,8 +48,10 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
     r.rounds = r.iterations = 0;
     cur_ = start;
     cur_.t = scan.t;
-    solveIcp(nullptr, true, r, Solve::Hypothesis);
-    if (!assoc_.voxel) {
+    const auto marginal = cur_marginal_;
+    solveIcp(nullptr, true, r, kind);
+    cur_marginal_ = marginal;
+    if (!assoc_.voxel && kind == Solve::Hypothesis) {
         // Inliers measured as tracking measures them, so that the refined poses compare with
         // the frame's own solve (the two associations count inliers differently).
         const auto ta = Clock::now();
@@ -64,11 +67,14 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
 }
 
 RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
-                                  FrameReport& rep) {
+                                  FrameReport& rep, const std::vector<SE3d>* seeds) {
     const auto& rp = params_.relocalization;
     RelocReport rr;
-    rr.mode = region ? "local" : "global";
-    rr.trigger = reloc_pending_ ? "request" : rep.health == Health::Lost ? "lost" : "doubt";
+    rr.mode = seeds ? "start" : region ? "local" : "global";
+    rr.trigger = seeds                           ? "start"
+                 : reloc_pending_                ? "request"
+                 : rep.health == Health::Lost    ? "lost"
+                                                 : "doubt";
     rr.outcome = RelocOutcome::Failed;
 
     // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
@@ -79,7 +85,16 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     else if (const auto R_level_imu = gravityFromImu(scan.t))
         R_level = Mat3d(*R_level_imu * scan.T_imu_lidar.linear());
     auto t0 = Clock::now();
-    const reloc::GlobalSearchResult found = search_->search(scan.points, R_level, region);
+    reloc::GlobalSearchResult found;
+    if (seeds) {
+        for (const SE3d& T : *seeds) {
+            reloc::PoseHypothesis h;
+            h.T_map_lidar = T;
+            found.hypotheses.push_back(h);  // all alike: each one is verified
+        }
+    } else {
+        found = search_->search(scan.points, R_level, region);
+    }
     rr.search_ms = msSince(t0);
     rr.hypotheses = static_cast<int>(found.hypotheses.size());
     if (found.hypotheses.empty()) {
@@ -109,11 +124,25 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
     while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
     const double ref = health_.reference();
+    std::vector<SE3d> basins;  // a start's seeds: where the voxel solve took each
     for (size_t i = 0; i < n; ++i) {
         fusion::FrameState start;
         start.setBias(prev_.bias());
         start.setPose(found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse());
-        const FrameReport r = refineHypothesis(scan, start, rep);
+        FrameReport r = refineHypothesis(scan, start, rep, Solve::Hypothesis);
+        if (seeds) {
+            // A start's seed: solved in the voxel map (fast), then, once per basin it reached,
+            // by the frame's own registration, so that it compares with the frame's own solve.
+            const SE3d T = r.T_map_lidar;
+            if (std::any_of(basins.begin(), basins.end(), [&](const SE3d& b) {
+                    return translationDistance(b, T) <= rp.start_distinct_xyz &&
+                           rotationAngle(b, T) <= rp.start_distinct_deg * kDeg;
+                }))
+                continue;
+            basins.push_back(T);
+            start.setPose(T * scan.T_imu_lidar.inverse());
+            r = refineHypothesis(scan, start, rep, Solve::Track);
+        }
         std::string why;
         HealthChecks c;
         const Health h = health_.classify(r, &why, &c);
@@ -133,6 +162,13 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     }
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
+    if (seeds && rep.health != Health::Lost && !rep.diverged) {
+        // The start's own solve (from the given pose) is one of the results compared.
+        const HealthChecks& c = rep.checks;
+        if (!c.not_converged && !c.badFit() && (ref > 0 || rep.inlier_ratio >= rp.accept_inlier_ratio))
+            verified.push_back(own);
+        standing.push_back(own);
+    }
     const StageTimes ms = rep.ms;
     const auto report = [&](FrameReport& r) {
         r.ms = ms;
@@ -154,8 +190,15 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // anywhere along it).
     std::string ambiguous;
     // A rival: a pose distinct from the winner's that explains the scan about as well.
+    // Around a start the places are nearer: a start result start_distinct_* from the winner is
+    // another basin of the same registration.
+    const auto distinct = [&](const SE3d& a, const SE3d& b) {
+        return seeds ? translationDistance(a, b) > rp.start_distinct_xyz ||
+                           rotationAngle(a, b) > rp.start_distinct_deg * kDeg
+                     : !rp.samePlace(a, b);
+    };
     const auto rivals = [&](const FrameReport& o) {
-        return !rp.samePlace(o.T_map_lidar, best.rep.T_map_lidar) &&
+        return distinct(o.T_map_lidar, best.rep.T_map_lidar) &&
                o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio;
     };
     for (const Outcome& so : standing) {
@@ -175,7 +218,9 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                 ambiguous += std::string(ambiguous.empty() ? "" : "+") + "candidates";
         }
     }
-    for (int k = 0; k < 3; ++k)
+    // (Around a start, the rival rule already tells a translation the scan leaves open: the
+    // seeds along it settle where they started, fitting alike.)
+    for (int k = 0; k < 3 && !seeds; ++k)
         if (best.rep.gamma[k] < params_.health.weak_gamma)
             ambiguous += (ambiguous.empty() ? "" : "+") + mrpt::format("weak_%s:%.2f", kAxisNames[k], best.rep.gamma[k]);
     if (!ambiguous.empty()) {
@@ -253,8 +298,10 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         report(rep);
         return rr.outcome;
     }
-    if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
-        // The frame's own solve stands (a suspicious frame the search could not better).
+    if (rep.health != Health::Lost &&
+        (best.rep.inlier_ratio <= rep.inlier_ratio || (seeds && !distinct(best.rep.T_map_lidar, rep.T_map_lidar)))) {
+        // The frame's own solve stands (a suspicious frame the search could not better; a start
+        // whose best seed ends where its own solve did).
         restore(own.sol);
         rr.outcome = RelocOutcome::NotBetter;
         report(rep);
@@ -292,6 +339,43 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                       rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
                       rep.inlier_ratio);
     return rr.outcome;
+}
+
+void Localizer::verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep) {
+    // Seeds covering the given pose's uncertainty: a ring of six at two thirds of start_xyz
+    // (the registration's basin reaches the rest), each at the given yaw and (start_ring_yaws
+    // = 3) two thirds of start_deg either way, and the given position turned either way.
+    const auto& rp = params_.relocalization;
+    const SE3d& T0 = *initial_T_map_lidar_;
+    std::vector<SE3d> seeds;
+    const double r = rp.start_xyz * 2 / 3, yaw = rp.start_deg * 2 / 3 * kDeg;
+    for (int k = -1; k < (r > 0 ? 6 : 0); ++k)
+        for (const double s : {0.0, -1.0, 1.0}) {
+            const bool turned = s != 0;
+            if ((k < 0 && !turned) || (turned && !(yaw > 0)) || (k >= 0 && turned && rp.start_ring_yaws == 1))
+                continue;
+            SE3d T = T0;
+            if (k >= 0) T.translation() += Vec3d(r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0);
+            T.linear() = Eigen::AngleAxisd(s * yaw, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
+            seeds.push_back(T);
+        }
+    if (seeds.empty()) return;
+    switch (runRelocalization(scan, pred, nullptr, rep, &seeds)) {
+        case RelocOutcome::Accepted:
+            assess(rep);
+            doubt_ = false;
+            break;
+        case RelocOutcome::Ambiguous:
+            // Another result within the start's uncertainty fits about as well: the pose is
+            // kept, but not as `ok`. (The frames after it are not held in doubt: on kitti00-mini
+            // their searches took poses 0.4 m along the road, as the start's rivals were.)
+            if (rep.health == Health::Ok) {
+                rep.health = Health::Degraded;
+                rep.health_reason = "start_ambiguous";
+            }
+            break;
+        default: break;
+    }
 }
 
 void Localizer::assess(FrameReport& rep) {

@@ -32,6 +32,11 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(doubt_max_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(doubt_max_deg, double, c, s);
     out_of_map = c.read_string(s, "out_of_map", out_of_map);
+    MRPT_LOAD_CONFIG_VAR(start_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_ring_yaws, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_distinct_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_distinct_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(track_candidates, int, c, s);
     MRPT_LOAD_CONFIG_VAR(track_min_frames, int, c, s);
     MRPT_LOAD_CONFIG_VAR(track_ratio, double, c, s);
@@ -58,6 +63,11 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_xyz, "[m] a frame in doubt takes a verified pose only within this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_deg, "[deg] ...and within this rotation");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out_of_map, "initial pose outside the map: error | global");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_xyz, "[m] a given initial pose's uncertainty: the first frame is also solved from seeds this far around it (0: off)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_deg, "[deg] ...and this far in yaw either way");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_ring_yaws, "the ring of seeds at the given yaw only (1: 8 seeds) or also turned either way (3: 20)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_distinct_xyz, "[m] start results farther apart are distinct places");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_distinct_deg, "[deg] ...or rotated more than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_candidates, "candidates of an ambiguous search tracked over the next scans (0: none)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_min_frames, "frames of evidence before a candidate is committed by its margin");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_ratio, "[-] commit when every other candidate's summed inliers <= this x the best's");
@@ -92,6 +102,11 @@ void RelocalizationParams::validate() const {
         throw ConfigError("[relocalization] doubt_max_xyz and doubt_max_deg must be > 0");
     if (out_of_map != "error" && out_of_map != "global")
         throw ConfigError("[relocalization] out_of_map = '" + out_of_map + "' (use error or global)");
+    if (!(start_xyz >= 0) || !(start_deg >= 0) || start_deg > 180)
+        throw ConfigError("[relocalization] start_xyz must be >= 0 and start_deg in [0, 180]");
+    if (start_ring_yaws != 1 && start_ring_yaws != 3) throw ConfigError("[relocalization] start_ring_yaws must be 1 or 3");
+    if (!(start_distinct_xyz > 0) || !(start_distinct_deg > 0))
+        throw ConfigError("[relocalization] start_distinct_xyz and start_distinct_deg must be > 0");
     if (track_candidates < 0) throw ConfigError("[relocalization] track_candidates must be >= 0");
     if (track_min_frames < 2) throw ConfigError("[relocalization] track_min_frames must be >= 2");
     if (!(track_ratio > 0 && track_ratio <= 1)) throw ConfigError("[relocalization] track_ratio must be in (0, 1]");

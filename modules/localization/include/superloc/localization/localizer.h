@@ -148,13 +148,23 @@ class Localizer : public mrpt::system::COutputLogger {
     /// without prior, inliers measured as tracking measures them, finished without a jump
     /// check, pred_dxyz / pred_ddeg against base.T_map_lidar_pred. `base` is the frame's report
     /// so far (its solve results are reset). Leaves the Solution at the refined pose.
-    FrameReport refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base);
+    /// With kind = Track (the start check's seeds), the frame's own registration instead, as
+    /// on a first frame.
+    FrameReport refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base,
+                                 Solve kind = Solve::Hypothesis);
     /// Relocalization on the current scan (localizer_relocalize.cpp): search (in `region`, or
     /// everywhere), verify the best hypotheses, commit the winner when it is unambiguous. On
     /// success rep and the state are the winner's (velocity unknown); else both stay as they
     /// were, with rep.reloc saying why.
+    /// With `seeds` (the start check), the hypotheses are these poses instead of a search's, a
+    /// rival must be start_distinct_* away, and the frame's own solve is one of the rivals.
     RelocOutcome runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
-                                   FrameReport& rep);
+                                   FrameReport& rep, const std::vector<SE3d>* seeds = nullptr);
+    /// The first frame from a given initial pose (doc/health.md, "Start"): solved again from
+    /// seeds around that pose within its uncertainty ([relocalization] start_xyz, start_deg);
+    /// the best fit is taken, and a start that fits about as well elsewhere is degraded
+    /// (`start_ambiguous`) until a search confirms the frames after it.
+    void verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// Multi-frame hypothesis tracking (doc/relocalization.md §4), first half: each kept
     /// candidate is moved by the measured motion since its frame, refined by the fine
     /// registration as a hypothesis, and its evidence accumulated; those lost or fitting clearly

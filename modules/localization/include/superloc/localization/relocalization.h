@@ -35,6 +35,17 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// an initial pose outside the map's bounds (grown by features.max_range): `error` (one-line
     /// error) or `global` (localize the first scan globally instead)
     std::string out_of_map = "error";
+    /// The uncertainty of a given initial pose (doc/health.md, "Start"): the first frame is also
+    /// solved from seeds this far around it (a ring in the horizontal plane, and the yaw either
+    /// way), and the best-fitting result is taken; one that fits about as well elsewhere makes
+    /// the start ambiguous. 0: the given pose is trusted as it is.
+    double start_xyz = 1.5;  ///< [m]
+    double start_deg = 15;   ///< [deg]
+    /// the ring's seeds at the given yaw only (1: 8 seeds) or also turned either way (3: 20)
+    int start_ring_yaws = 3;
+    /// [m] / [deg] start results farther apart than this are distinct places (rivals)
+    double start_distinct_xyz = 0.3;
+    double start_distinct_deg = 3.0;
     /// Multi-frame hypothesis tracking (doc/relocalization.md §4): an ambiguous relocalization
     /// of a frame without a pose keeps up to this many candidates and tracks each over the next
     /// scans, accumulating evidence, until one is clearly best; 0: none kept (each scan searches
