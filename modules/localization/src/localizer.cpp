@@ -407,6 +407,11 @@ const std::vector<Vec3f>& Localizer::mapPoints(const Scan& scan, double voxel) {
     return map_points_;
 }
 
+bool Localizer::wantsSweepVelocity(const Prediction& pred) const {
+    const auto& fp = params_.features;
+    return !pred.at_rest && params_.loc.sweep_velocity && fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu);
+}
+
 FrameReport Localizer::process(const Scan& scan) {
     const auto t_start = Clock::now();
     const double cpu_start = threadCpuMs();
@@ -510,9 +515,7 @@ FrameReport Localizer::process(const Scan& scan) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
         } else {
             solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);
-            const auto& fp = params_.features;
-            if (velocity_unknown && !pred.at_rest && lp.sweep_velocity && fp.deskew &&
-                (pred.twist_from_imu || fp.deskew_without_imu) && !rep.diverged)
+            if (velocity_unknown && wantsSweepVelocity(pred) && !rep.diverged)
                 solveSweepVelocity(scan, pred, pred.used_imu ? &pre : nullptr, rep);
         }
         // Step 6: report and state update.

@@ -40,7 +40,7 @@ void Localizer::restore(const Solution& s) {
 }
 
 FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base,
-                                        Solve kind) {
+                                        Solve kind, const Prediction* frame_pred) {
     FrameReport r = base;
     r.diverged = false;
     r.diverged_reason.clear();
@@ -51,6 +51,8 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
     const auto marginal = cur_marginal_;
     solveIcp(nullptr, true, r, kind);
     cur_marginal_ = marginal;
+    if (frame_pred && wantsSweepVelocity(*frame_pred) && !r.diverged)
+        solveSweepVelocity(scan, *frame_pred, nullptr, r);
     if (!assoc_.voxel && kind == Solve::Hypothesis) {
         // Inliers measured as tracking measures them, so that the refined poses compare with
         // the frame's own solve (the two associations count inliers differently).
@@ -58,7 +60,8 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
         associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
         r.ms.associate += msSince(ta);
     }
-    Prediction p;  // no IMU prediction: finished unchecked, velocity by finite difference
+    // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
+    Prediction p = frame_pred ? *frame_pred : Prediction{};
     p.T_map_imu = start.T_map_imu();
     finish(scan, p, true, r);
     r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
@@ -141,7 +144,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                 continue;
             basins.push_back(T);
             start.setPose(T * scan.T_imu_lidar.inverse());
-            r = refineHypothesis(scan, start, rep, Solve::Track);
+            r = refineHypothesis(scan, start, rep, Solve::Track, &pred);
         }
         std::string why;
         HealthChecks c;

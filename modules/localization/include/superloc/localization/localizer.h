@@ -150,8 +150,13 @@ class Localizer : public mrpt::system::COutputLogger {
     /// so far (its solve results are reset). Leaves the Solution at the refined pose.
     /// With kind = Track (the start check's seeds), the frame's own registration instead, as
     /// on a first frame.
+    /// `frame_pred` (a start's seeds): the frame's prediction, whose sweep twist lets the seed
+    /// estimate its sweep velocity as the frame's own solve does (wantsSweepVelocity).
     FrameReport refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base,
-                                 Solve kind = Solve::Hypothesis);
+                                 Solve kind = Solve::Hypothesis, const Prediction* frame_pred = nullptr);
+    /// A frame of unknown velocity estimates its sweep's translation velocity with its pose
+    /// (LocalizationParams::sweep_velocity) when moving and deskewed.
+    bool wantsSweepVelocity(const Prediction& pred) const;
     /// Relocalization on the current scan (localizer_relocalize.cpp): search (in `region`, or
     /// everywhere), verify the best hypotheses, commit the winner when it is unambiguous. On
     /// success rep and the state are the winner's (velocity unknown); else both stay as they
