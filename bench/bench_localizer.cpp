@@ -169,6 +169,11 @@ void BM_Frame(benchmark::State& state, const LocalizerParams& params, const Spli
 }
 
 void BM_FrameIcp(benchmark::State& s) { BM_Frame(s, kittiParams("icp"), kitti()); }
+void BM_FrameIcpNoStartCheck(benchmark::State& s) {
+    LocalizerParams p = kittiParams("icp");
+    p.relocalization.start_xyz = p.relocalization.start_deg = 0;
+    BM_Frame(s, p, kitti());
+}
 void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams(), kitti()); }
 void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti()); }
 /// The default settings with the data set's fact (the scans come undistorted: deskew off).
@@ -291,6 +296,7 @@ void BM_DeskewSweep(benchmark::State& state) {
 
 BENCHMARK(BM_DeskewSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
+BENCHMARK(BM_FrameIcpNoStartCheck)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpVoxel)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
 BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);

@@ -127,25 +127,43 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
     while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
     const double ref = health_.reference();
-    std::vector<SE3d> basins;  // a start's seeds: where the voxel solve took each
-    for (size_t i = 0; i < n; ++i) {
+    // Around a start the places are nearer: a start result start_distinct_* from the winner is
+    // another basin of the same registration.
+    const auto distinct = [&](const SE3d& a, const SE3d& b) {
+        return seeds ? translationDistance(a, b) > rp.start_distinct_xyz ||
+                           rotationAngle(a, b) > rp.start_distinct_deg * kDeg
+                     : !rp.samePlace(a, b);
+    };
+    // The poses solved and verified: the search's hypotheses (in the voxel map), or a start's
+    // seeds: each solved in the voxel map first (fast), and then, once per basin they reached
+    // and only where that basin fits within start_refine_ratio of the best one, by the frame's
+    // own registration, so that it compares with the frame's own solve.
+    std::vector<SE3d> tries;
+    if (seeds) {
+        std::vector<std::pair<SE3d, double>> basins;  // pose, inlier ratio
+        for (size_t i = 0; i < n; ++i) {
+            fusion::FrameState start;
+            start.setBias(prev_.bias());
+            start.setPose(found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse());
+            const FrameReport r = refineHypothesis(scan, start, rep, Solve::Hypothesis);
+            if (r.diverged) continue;
+            const SE3d& T = r.T_map_lidar;
+            if (std::none_of(basins.begin(), basins.end(),
+                             [&](const auto& b) { return !distinct(b.first, T); }))
+                basins.emplace_back(T, r.inlier_ratio);
+        }
+        std::sort(basins.begin(), basins.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+        for (const auto& [T, ratio] : basins)
+            if (ratio >= rp.start_refine_ratio * basins.front().second) tries.push_back(T);
+    } else {
+        for (size_t i = 0; i < n; ++i) tries.push_back(found.hypotheses[i].T_map_lidar);
+    }
+    for (size_t i = 0; i < tries.size(); ++i) {
         fusion::FrameState start;
         start.setBias(prev_.bias());
-        start.setPose(found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse());
-        FrameReport r = refineHypothesis(scan, start, rep, Solve::Hypothesis);
-        if (seeds) {
-            // A start's seed: solved in the voxel map (fast), then, once per basin it reached,
-            // by the frame's own registration, so that it compares with the frame's own solve.
-            const SE3d T = r.T_map_lidar;
-            if (std::any_of(basins.begin(), basins.end(), [&](const SE3d& b) {
-                    return translationDistance(b, T) <= rp.start_distinct_xyz &&
-                           rotationAngle(b, T) <= rp.start_distinct_deg * kDeg;
-                }))
-                continue;
-            basins.push_back(T);
-            start.setPose(T * scan.T_imu_lidar.inverse());
-            r = refineHypothesis(scan, start, rep, Solve::Track, &pred);
-        }
+        start.setPose(tries[i] * scan.T_imu_lidar.inverse());
+        const FrameReport r = seeds ? refineHypothesis(scan, start, rep, Solve::Track, &pred)
+                                    : refineHypothesis(scan, start, rep, Solve::Hypothesis);
         std::string why;
         HealthChecks c;
         const Health h = health_.classify(r, &why, &c);
@@ -159,9 +177,9 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         if (h != Health::Lost) standing.push_back({r, solution()});
         const Vec3d& x = r.T_map_lidar.translation();
         MRPT_LOG_DEBUG_FMT("hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
-                           found.hypotheses[i].score, x.x(), x.y(), x.z(),
-                           translationDistance(r.T_map_lidar, found.hypotheses[i].T_map_lidar), r.inlier_ratio,
-                           healthName(h), fits ? " verified" : "", why.c_str());
+                           seeds ? 0.0 : found.hypotheses[i].score, x.x(), x.y(), x.z(),
+                           translationDistance(r.T_map_lidar, tries[i]), r.inlier_ratio, healthName(h),
+                           fits ? " verified" : "", why.c_str());
     }
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
@@ -193,13 +211,6 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // anywhere along it).
     std::string ambiguous;
     // A rival: a pose distinct from the winner's that explains the scan about as well.
-    // Around a start the places are nearer: a start result start_distinct_* from the winner is
-    // another basin of the same registration.
-    const auto distinct = [&](const SE3d& a, const SE3d& b) {
-        return seeds ? translationDistance(a, b) > rp.start_distinct_xyz ||
-                           rotationAngle(a, b) > rp.start_distinct_deg * kDeg
-                     : !rp.samePlace(a, b);
-    };
     const auto rivals = [&](const FrameReport& o) {
         return distinct(o.T_map_lidar, best.rep.T_map_lidar) &&
                o.inlier_ratio >= rp.ambiguity_ratio * best.rep.inlier_ratio;

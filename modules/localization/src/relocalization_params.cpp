@@ -35,6 +35,7 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(start_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(start_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(start_ring_yaws, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_refine_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(start_distinct_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(start_distinct_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(track_candidates, int, c, s);
@@ -66,6 +67,7 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_xyz, "[m] a given initial pose's uncertainty: the first frame is also solved from seeds this far around it (0: off)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_deg, "[deg] ...and this far in yaw either way");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_ring_yaws, "the ring of seeds at the given yaw only (1: 8 seeds) or also turned either way (3: 20)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(start_refine_ratio, "[-] a seed's basin is refined by the frame's own registration when it fits >= this x the best one");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_distinct_xyz, "[m] start results farther apart are distinct places");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_distinct_deg, "[deg] ...or rotated more than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(track_candidates, "candidates of an ambiguous search tracked over the next scans (0: none)");
@@ -105,6 +107,8 @@ void RelocalizationParams::validate() const {
     if (!(start_xyz >= 0) || !(start_deg >= 0) || start_deg > 180)
         throw ConfigError("[relocalization] start_xyz must be >= 0 and start_deg in [0, 180]");
     if (start_ring_yaws != 1 && start_ring_yaws != 3) throw ConfigError("[relocalization] start_ring_yaws must be 1 or 3");
+    if (!(start_refine_ratio >= 0 && start_refine_ratio <= 1))
+        throw ConfigError("[relocalization] start_refine_ratio must be in [0, 1]");
     if (!(start_distinct_xyz > 0) || !(start_distinct_deg > 0))
         throw ConfigError("[relocalization] start_distinct_xyz and start_distinct_deg must be > 0");
     if (track_candidates < 0) throw ConfigError("[relocalization] track_candidates must be >= 0");

@@ -43,6 +43,9 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     double start_deg = 15;   ///< [deg]
     /// the ring's seeds at the given yaw only (1: 8 seeds) or also turned either way (3: 20)
     int start_ring_yaws = 3;
+    /// [-] a seed's basin is solved by the frame's own registration only when its voxel-map
+    /// solve fits at least this x the best basin's inlier ratio
+    double start_refine_ratio = 0.7;
     /// [m] / [deg] start results farther apart than this are distinct places (rivals)
     double start_distinct_xyz = 0.3;
     double start_distinct_deg = 3.0;
