@@ -148,10 +148,9 @@ class Localizer : public mrpt::system::COutputLogger {
     /// without prior, inliers measured as tracking measures them, finished without a jump
     /// check, pred_dxyz / pred_ddeg against base.T_map_lidar_pred. `base` is the frame's report
     /// so far (its solve results are reset). Leaves the Solution at the refined pose.
-    /// With kind = Track (the start check's seeds), the frame's own registration instead, as
-    /// on a first frame.
-    /// `frame_pred` (a start's seeds): the frame's prediction, whose sweep twist lets the seed
-    /// estimate its sweep velocity as the frame's own solve does (wantsSweepVelocity).
+    /// With kind = Track and `frame_pred` (the start check's seeds): the frame's own
+    /// registration instead, as on a first frame, the sweep velocity estimated with the pose
+    /// as the frame's own solve does (wantsSweepVelocity, from the prediction's sweep twist).
     FrameReport refineHypothesis(const Scan& scan, const fusion::FrameState& start, const FrameReport& base,
                                  Solve kind = Solve::Hypothesis, const Prediction* frame_pred = nullptr);
     /// A frame of unknown velocity estimates its sweep's translation velocity with its pose
@@ -167,8 +166,8 @@ class Localizer : public mrpt::system::COutputLogger {
                                    FrameReport& rep, const std::vector<SE3d>* seeds = nullptr);
     /// The first frame from a given initial pose (doc/health.md, "Start"): solved again from
     /// seeds around that pose within its uncertainty ([relocalization] start_xyz, start_deg);
-    /// the best fit is taken, and a start that fits about as well elsewhere is degraded
-    /// (`start_ambiguous`) until a search confirms the frames after it.
+    /// the best fit is taken, and a start that fits about as well elsewhere keeps its own
+    /// solve, reported degraded (`start_ambiguous`).
     void verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// Multi-frame hypothesis tracking (doc/relocalization.md §4), first half: each kept
     /// candidate is moved by the measured motion since its frame, refined by the fine
