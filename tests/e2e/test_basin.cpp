@@ -12,7 +12,7 @@
 //  - simulated office 50/50 / 41/50; more than 0.5 m / 5 deg off and reported ok 0 / 7 (a
 //    first frame in motion is deskewed by the gyro and its sweep velocity estimated with its
 //    pose, the seeds' solves included: without that for the seeds, 44/50);
-//  - kitti 24/50 / 10/50, confidently wrong 1 / 20: two of the eight odd frames cannot come
+//  - kitti 26/50 / 10/50, confidently wrong 1 / 20: two of the eight odd frames cannot come
 //    within 5 cm of this ground truth (doc/results.md, "KITTI split"), and starts along the
 //    road settle in the smeared map.
 // KITTI's is not met, so it is DISABLED_ (run it with --gtest_also_run_disabled_tests) until the
