@@ -130,31 +130,13 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
     // Around a start the places are nearer: a start result start_distinct_* from the winner is
     // another basin of the same registration.
     const auto distinct = [&](const SE3d& a, const SE3d& b) {
-        return seeds ? translationDistance(a, b) > rp.start_distinct_xyz ||
-                           rotationAngle(a, b) > rp.start_distinct_deg * kDeg
-                     : !rp.samePlace(a, b);
+        return seeds ? !rp.sameStartBasin(a, b) : !rp.samePlace(a, b);
     };
-    // The poses solved and verified: the search's hypotheses (in the voxel map), or a start's
-    // seeds: each solved in the voxel map first (fast), and then, once per basin they reached
-    // and only where that basin fits within start_refine_ratio of the best one, by the frame's
-    // own registration, so that it compares with the frame's own solve.
+    // The poses solved and verified: the search's hypotheses (in the voxel map), or the basins a
+    // start's seeds reach (startBasins, localizer_start.cpp), by the frame's own registration.
     std::vector<SE3d> tries;
     if (seeds) {
-        std::vector<std::pair<SE3d, double>> basins;  // pose, inlier ratio
-        for (size_t i = 0; i < n; ++i) {
-            fusion::FrameState start;
-            start.setBias(prev_.bias());
-            start.setPose(found.hypotheses[i].T_map_lidar * scan.T_imu_lidar.inverse());
-            const FrameReport r = refineHypothesis(scan, start, rep, Solve::Hypothesis);
-            if (r.diverged) continue;
-            const SE3d& T = r.T_map_lidar;
-            if (std::none_of(basins.begin(), basins.end(),
-                             [&](const auto& b) { return !distinct(b.first, T); }))
-                basins.emplace_back(T, r.inlier_ratio);
-        }
-        std::sort(basins.begin(), basins.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
-        for (const auto& [T, ratio] : basins)
-            if (ratio >= rp.start_refine_ratio * basins.front().second) tries.push_back(T);
+        tries = startBasins(scan, *seeds, rep);
     } else {
         for (size_t i = 0; i < n; ++i) tries.push_back(found.hypotheses[i].T_map_lidar);
     }
@@ -365,43 +347,6 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                       rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
                       rep.inlier_ratio);
     return rr.outcome;
-}
-
-void Localizer::verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep) {
-    // Seeds covering the given pose's uncertainty: a ring of six at two thirds of start_xyz
-    // (the registration's basin reaches the rest), each at the given yaw and (start_ring_yaws
-    // = 3) two thirds of start_deg either way, and the given position turned either way.
-    const auto& rp = params_.relocalization;
-    const SE3d& T0 = *initial_T_map_lidar_;
-    std::vector<SE3d> seeds;
-    const double r = rp.start_xyz * 2 / 3, yaw = rp.start_deg * 2 / 3 * kDeg;
-    for (int k = -1; k < (r > 0 ? 6 : 0); ++k)
-        for (const double s : {0.0, -1.0, 1.0}) {
-            const bool turned = s != 0;
-            if ((k < 0 && !turned) || (turned && !(yaw > 0)) || (k >= 0 && turned && rp.start_ring_yaws == 1))
-                continue;
-            SE3d T = T0;
-            if (k >= 0) T.translation() += Vec3d(r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0);
-            T.linear() = Eigen::AngleAxisd(s * yaw, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
-            seeds.push_back(T);
-        }
-    if (seeds.empty()) return;
-    switch (runRelocalization(scan, pred, nullptr, rep, &seeds)) {
-        case RelocOutcome::Accepted:
-            assess(rep);
-            doubt_ = false;
-            break;
-        case RelocOutcome::Ambiguous:
-            // Another result within the start's uncertainty fits about as well: the pose is
-            // kept, but not as `ok`. (The frames after it are not held in doubt: on kitti00-mini
-            // their searches took poses 0.4 m along the road, as the start's rivals were.)
-            if (rep.health == Health::Ok) {
-                rep.health = Health::Degraded;
-                rep.health_reason = "start_ambiguous";
-            }
-            break;
-        default: break;
-    }
 }
 
 void Localizer::assess(FrameReport& rep) {

@@ -85,6 +85,10 @@ bool RelocalizationParams::samePlace(const SE3d& a, const SE3d& b) const {
     return translationDistance(a, b) <= distinct_xyz && rotationAngle(a, b) <= distinct_deg * kDeg;
 }
 
+bool RelocalizationParams::sameStartBasin(const SE3d& a, const SE3d& b) const {
+    return translationDistance(a, b) <= start_distinct_xyz && rotationAngle(a, b) <= start_distinct_deg * kDeg;
+}
+
 void RelocalizationParams::validate() const {
     if (local_after_lost < 1) throw ConfigError("[relocalization] local_after_lost must be >= 1");
     if (global_after_lost < local_after_lost)

@@ -164,11 +164,14 @@ class Localizer : public mrpt::system::COutputLogger {
     /// rival must be start_distinct_* away, and the frame's own solve is one of the rivals.
     RelocOutcome runRelocalization(const Scan& scan, const Prediction& pred, const reloc::SearchRegion* region,
                                    FrameReport& rep, const std::vector<SE3d>* seeds = nullptr);
-    /// The first frame from a given initial pose (doc/health.md, "Start"): solved again from
-    /// seeds around that pose within its uncertainty ([relocalization] start_xyz, start_deg);
-    /// the best fit is taken, and a start that fits about as well elsewhere keeps its own
-    /// solve, reported degraded (`start_ambiguous`).
+    /// The first frame from a given initial pose (localizer_start.cpp, doc/health.md "Start"):
+    /// solved again from seeds around that pose within its uncertainty ([relocalization]
+    /// start_xyz, start_deg); the best fit is taken, and a start that fits about as well
+    /// elsewhere keeps its own solve, reported degraded (`start_ambiguous`).
     void verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep);
+    /// The start check's seeds (localizer_start.cpp), each solved in the voxel map: one pose per
+    /// basin they reach that fits within start_refine_ratio of the best, best first.
+    std::vector<SE3d> startBasins(const Scan& scan, const std::vector<SE3d>& seeds, const FrameReport& rep);
     /// Multi-frame hypothesis tracking (doc/relocalization.md §4), first half: each kept
     /// candidate is moved by the measured motion since its frame, refined by the fine
     /// registration as a hypothesis, and its evidence accumulated; those lost or fitting clearly

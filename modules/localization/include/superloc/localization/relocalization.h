@@ -79,6 +79,8 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     void validate() const;
     /// Two poses within distinct_xyz and distinct_deg of each other: one place, not two.
     bool samePlace(const SE3d& a, const SE3d& b) const;
+    /// Two start results within start_distinct_xyz and start_distinct_deg: one basin.
+    bool sameStartBasin(const SE3d& a, const SE3d& b) const;
 };
 
 /// How a relocalization ended.
