@@ -80,66 +80,68 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
                                                  : "doubt";
     rr.outcome = RelocOutcome::Failed;
 
-    // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
-    // the scan's ground plane.
-    std::optional<Mat3d> R_level;
-    if (pred.used_imu)
-        R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
-    else if (const auto R_level_imu = gravityFromImu(scan.t))
-        R_level = Mat3d(*R_level_imu * scan.T_imu_lidar.linear());
-    auto t0 = Clock::now();
-    reloc::GlobalSearchResult found;
-    if (seeds) {
-        for (const SE3d& T : *seeds) {
-            reloc::PoseHypothesis h;
-            h.T_map_lidar = T;
-            found.hypotheses.push_back(h);  // all alike: each one is verified
-        }
-    } else {
-        found = search_->search(scan.points, R_level, region);
-    }
-    rr.search_ms = msSince(t0);
-    rr.hypotheses = static_cast<int>(found.hypotheses.size());
-    if (found.hypotheses.empty()) {
-        rr.detail = "no_hypothesis" + (found.failure.empty() ? "" : ": " + found.failure);
-        rep.reloc = rr;
-        rep.ms.solve += rr.search_ms;
-        return rr.outcome;
-    }
-
-    // Verify: the fine registration from each hypothesis, as on a first frame (velocity unknown,
-    // coarse start, no prior, no jump check), then the health checks.
+    // The frame's own solve, as it stands before any attempt moves the state.
     struct Outcome {
         FrameReport rep;
         Solution sol;
     };
     const Outcome own{rep, solution()};
+
+    // Proposals: the basins a start's seeds reach (startBasins, localizer_start.cpp: each seed
+    // solved in the voxel map), or the global search's hypotheses.
+    std::vector<SE3d> tries;
+    std::vector<double> scores;  // the search's score of each (for the log)
+    auto t0 = Clock::now();
+    if (seeds) {
+        rr.hypotheses = static_cast<int>(seeds->size());
+        tries = startBasins(scan, *seeds, rep);
+    } else {
+        // Gravity: the IMU-predicted attitude when there is one, else the search estimates it
+        // from the scan's ground plane.
+        std::optional<Mat3d> R_level;
+        if (pred.used_imu)
+            R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
+        else if (const auto R_level_imu = gravityFromImu(scan.t))
+            R_level = Mat3d(*R_level_imu * scan.T_imu_lidar.linear());
+        const reloc::GlobalSearchResult found = search_->search(scan.points, R_level, region);
+        rr.hypotheses = static_cast<int>(found.hypotheses.size());
+        if (found.hypotheses.empty()) {
+            rr.search_ms = msSince(t0);
+            rr.detail = "no_hypothesis" + (found.failure.empty() ? "" : ": " + found.failure);
+            rep.reloc = rr;
+            rep.ms.solve += rr.search_ms;
+            return rr.outcome;
+        }
+        // The best verify_hypotheses, and every other one the search could not tell from the
+        // best (score within ambiguity_ratio of it): in look-alike places (the simulated
+        // office's rooms) the right one is often not among the first three of several equal
+        // scores.
+        size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
+        while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
+        for (size_t i = 0; i < n; ++i) {
+            tries.push_back(found.hypotheses[i].T_map_lidar);
+            scores.push_back(found.hypotheses[i].score);
+        }
+    }
+    rr.search_ms = msSince(t0);
+
+    // Verify: the fine registration from each hypothesis, as on a first frame (velocity unknown,
+    // coarse start, no prior, no jump check), then the health checks.
     std::vector<Outcome> verified;
     // Every attempt that is not lost, settled or not: an alternative that fits about as well
     // but did not settle in its rounds is no evidence against it (look-alike rooms).
     std::vector<Outcome> standing;
     t0 = Clock::now();
-    // Verified coarse to fine in the voxel map whatever the tracking association (doc/map.md):
-    // its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps, and it is fast.
-    // The best verify_hypotheses, and every other one the search could not tell from the best
-    // (score within ambiguity_ratio of it): in look-alike places (the simulated office's rooms)
-    // the right one is often not among the first three of several equal scores.
-    size_t n = std::min(found.hypotheses.size(), static_cast<size_t>(rp.verify_hypotheses));
-    while (n < found.hypotheses.size() && found.hypotheses[n].ratio_to_best >= rp.ambiguity_ratio) ++n;
+    // A search's hypothesis is verified coarse to fine in the voxel map whatever the tracking
+    // association (doc/map.md): its metre-sized levels forgive the search's 0.25 m / 1.5 deg
+    // steps, and it is fast. A start's basin by the frame's own registration, so that it
+    // compares with the frame's own solve.
     const double ref = health_.reference();
     // Around a start the places are nearer: a start result start_distinct_* from the winner is
     // another basin of the same registration.
     const auto distinct = [&](const SE3d& a, const SE3d& b) {
         return seeds ? !rp.sameStartBasin(a, b) : !rp.samePlace(a, b);
     };
-    // The poses solved and verified: the search's hypotheses (in the voxel map), or the basins a
-    // start's seeds reach (startBasins, localizer_start.cpp), by the frame's own registration.
-    std::vector<SE3d> tries;
-    if (seeds) {
-        tries = startBasins(scan, *seeds, rep);
-    } else {
-        for (size_t i = 0; i < n; ++i) tries.push_back(found.hypotheses[i].T_map_lidar);
-    }
     for (size_t i = 0; i < tries.size(); ++i) {
         fusion::FrameState start;
         start.setBias(prev_.bias());
@@ -159,7 +161,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         if (h != Health::Lost) standing.push_back({r, solution()});
         const Vec3d& x = r.T_map_lidar.translation();
         MRPT_LOG_DEBUG_FMT("hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
-                           seeds ? 0.0 : found.hypotheses[i].score, x.x(), x.y(), x.z(),
+                           i < scores.size() ? scores[i] : 0.0, x.x(), x.y(), x.z(),
                            translationDistance(r.T_map_lidar, tries[i]), r.inlier_ratio, healthName(h),
                            fits ? " verified" : "", why.c_str());
     }

@@ -41,23 +41,26 @@ void Localizer::verifyStart(const Scan& scan, const Prediction& pred, FrameRepor
     // = 3) two thirds of start_deg either way, and the given position turned either way.
     const auto& rp = params_.relocalization;
     const SE3d& T0 = *initial_T_map_lidar_;
-    std::vector<SE3d> seeds;
     const double r = rp.start_xyz * 2 / 3, yaw = rp.start_deg * 2 / 3 * kDeg;
-    for (int k = -1; k < (r > 0 ? 6 : 0); ++k)
-        for (const double s : {0.0, -1.0, 1.0}) {
-            const bool turned = s != 0;
-            if ((k < 0 && !turned) || (turned && !(yaw > 0)) || (k >= 0 && turned && rp.start_ring_yaws == 1))
-                continue;
-            SE3d T = T0;
-            if (k >= 0) T.translation() += Vec3d(r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0);
-            T.linear() = Eigen::AngleAxisd(s * yaw, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
-            seeds.push_back(T);
-        }
+    const auto seed = [&](const Vec3d& dx, double dyaw) {
+        SE3d T = T0;
+        T.translation() += dx;
+        T.linear() = Eigen::AngleAxisd(dyaw, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
+        return T;
+    };
+    std::vector<double> ring_yaws = {0.0};
+    if (yaw > 0 && rp.start_ring_yaws == 3) ring_yaws.insert(ring_yaws.end(), {-yaw, yaw});
+    std::vector<SE3d> seeds;
+    if (yaw > 0)
+        for (const double y : {-yaw, yaw}) seeds.push_back(seed(Vec3d::Zero(), y));
+    if (r > 0)
+        for (int k = 0; k < 6; ++k)
+            for (const double y : ring_yaws)
+                seeds.push_back(seed(Vec3d(r * std::cos(k * M_PI / 3), r * std::sin(k * M_PI / 3), 0), y));
     if (seeds.empty()) return;
     switch (runRelocalization(scan, pred, nullptr, rep, &seeds)) {
         case RelocOutcome::Accepted:
             assess(rep);
-            doubt_ = false;
             break;
         case RelocOutcome::Ambiguous:
             // Another result within the start's uncertainty fits about as well: the pose is

@@ -170,7 +170,8 @@ class Localizer : public mrpt::system::COutputLogger {
     /// elsewhere keeps its own solve, reported degraded (`start_ambiguous`).
     void verifyStart(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// The start check's seeds (localizer_start.cpp), each solved in the voxel map: one pose per
-    /// basin they reach that fits within start_refine_ratio of the best, best first.
+    /// basin they reach that fits within start_refine_ratio of the best, best first. Like
+    /// refineHypothesis, it leaves the Solution at the last pose solved: save it before.
     std::vector<SE3d> startBasins(const Scan& scan, const std::vector<SE3d>& seeds, const FrameReport& rep);
     /// Multi-frame hypothesis tracking (doc/relocalization.md §4), first half: each kept
     /// candidate is moved by the measured motion since its frame, refined by the fine
