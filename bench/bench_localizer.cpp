@@ -249,6 +249,8 @@ void BM_Association(benchmark::State& state) {
         benchmark::DoNotOptimize(corr.data());
     }
     state.counters["features"] = static_cast<double>(pts.size());
+    state.counters["too_far"] = static_cast<double>(st.too_far);
+    state.counters["map_points"] = static_cast<double>(d->map->size());
     state.counters["per_query_us"] =
         benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate |
                                                                 benchmark::Counter::kInvert);

@@ -1,7 +1,8 @@
 // PriorMap preparation on a 1 M-point map and kd-tree query cost (issue 2: "loading + preparing
-// a 1 M-point map takes seconds"), and the registration voxel map's scaling: preparation time,
-// resident bytes per map point and lookup cost for the same hall sampled with 1e5 and 1e7
-// points (doc/map.md). Run: superloc-microbench-map
+// a 1 M-point map takes seconds"), and the scaling of both associations (the registration voxel
+// map and the default nearest-point one): preparation time, resident bytes per map point and
+// association cost for the same hall sampled with 1e5, 1e6 and 1e7 points (doc/map.md).
+// Run: superloc-microbench-map
 #include <benchmark/benchmark.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/localization/association.h>
@@ -110,6 +111,45 @@ void BM_VoxelMapScale(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_VoxelMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+/// The default association (association = nearest: kd-tree, per-point geometry on first use) on
+/// the same hall with state.range(0) points. Counters: prepare_s_per_1M (PriorMap + the kd-tree
+/// the first query builds), bytes_per_point (after the associations: points, voxel map, kd-tree,
+/// geometry), first_assoc_ms (the first association: computes the geometry of the points it
+/// touches), assoc_ms_2000 (median of 200 later associations).
+void BM_NearestMapScale(benchmark::State& state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    const PointCloud cloud = hall(n);
+    map::MapParams p;
+    p.voxel_size = 0;
+    std::vector<Vec3d> feats;  // on the surfaces, 2 cm off
+    for (const Vec3f& q : hall(2000).points) feats.push_back((q + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const map::PriorMap m(cloud, p);
+        m.nearest(Vec3f::Zero());  // builds the kd-tree
+        const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        localization::AssociationParams ap;
+        std::vector<Correspondence> corr;
+        localization::AssociationStats st;
+        const auto f0 = std::chrono::steady_clock::now();
+        localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
+        const double first = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f0).count();
+        std::vector<double> ms;
+        for (int k = 0; k < 200; ++k) {
+            const auto a = std::chrono::steady_clock::now();
+            localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
+            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
+        }
+        std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
+        state.counters["prepare_s_per_1M"] = prep / (static_cast<double>(n) / 1e6);
+        state.counters["bytes_per_point"] = static_cast<double>(m.memoryBytes()) / static_cast<double>(n);
+        state.counters["first_assoc_ms"] = first;
+        state.counters["assoc_ms_2000"] = ms[100];
+        state.counters["matched"] = static_cast<double>(corr.size());
+    }
+}
+BENCHMARK(BM_NearestMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

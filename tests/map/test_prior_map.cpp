@@ -1,4 +1,4 @@
-// PriorMap: normals of synthetic surfaces, orientation, kd-tree queries, edge cases.
+// PriorMap: normals of synthetic surfaces, orientation, nearest-neighbour queries, edge cases.
 #include <superloc/core/se3.h>
 #include <superloc/map/prior_map.h>
 #include <superloc_testing/testing.h>
@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <thread>
 
 using namespace superloc;
@@ -170,6 +171,46 @@ TEST(PriorMap, KnnMatchesBruteForce) {
         EXPECT_FLOAT_EQ(dist, sorted[0]);
         EXPECT_FLOAT_EQ(d2[idx], sorted[0]);
     }
+}
+
+TEST(PriorMap, GeometryIsComputedPerPointOnFirstUseAndMatchesBruteForce) {
+    // Each point's geometry is computed by its first query, from its normal_k nearest points
+    // within normal_max_radius: the same as a brute-force PCA of those points.
+    const MapParams p = params(0.02, 10);
+    const PriorMap map(cylinderCloud(2.0f), p);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<size_t> pick(0, map.size() - 1);
+    for (int t = 0; t < 30; ++t) {
+        const size_t i = pick(rng);
+        std::vector<std::pair<float, size_t>> d;
+        for (size_t j = 0; j < map.size(); ++j) d.emplace_back((map.point(j) - map.point(i)).squaredNorm(), j);
+        std::partial_sort(d.begin(), d.begin() + 10, d.end());
+        std::vector<Vec3f> nb;
+        for (size_t j = 0; j < 10; ++j)
+            if (d[j].first <= p.normal_max_radius * p.normal_max_radius) nb.push_back(map.point(d[j].second));
+        const PointGeometry want = fitNeighborhood(nb);
+        const PointGeometry& got = map.geometry(i);
+        EXPECT_NEAR(std::abs(got.normal.dot(want.normal)), 1.0f, 1e-4f) << "point " << i;
+        EXPECT_NEAR(got.planarity, want.planarity, 1e-4f);
+        EXPECT_NEAR(got.fit_residual, want.fit_residual, 1e-5f);
+    }
+    EXPECT_THROW(map.geometry(map.size()), std::out_of_range);
+}
+
+TEST(PriorMap, ConcurrentGeometryQueriesAgree) {
+    // Two threads ask for the same points' geometry at once (each point computed once, the other
+    // thread waits for it): both see the single-threaded answer.
+    const PriorMap a(cylinderCloud(2.0f), params(0.05));
+    const PriorMap b(cylinderCloud(2.0f), params(0.05));
+    std::vector<float> ga(a.size()), gb(a.size());
+    const auto run = [&](std::vector<float>& out) {
+        for (size_t i = 0; i < out.size(); ++i) out[i] = a.geometry(i).normal.x() + a.geometry(i).planarity;
+    };
+    std::thread t1(run, std::ref(ga)), t2(run, std::ref(gb));
+    t1.join();
+    t2.join();
+    EXPECT_EQ(ga, gb);
+    for (size_t i = 0; i < b.size(); ++i) ASSERT_EQ(b.geometry(i).normal.x() + b.geometry(i).planarity, ga[i]);
 }
 
 TEST(PriorMap, ConcurrentQueriesAgree) {

@@ -1,13 +1,15 @@
-// PriorMap: voxel filter and registration voxel map at load; kd-tree and per-point geometry
-// computed once on first use, in parallel.
+// PriorMap: voxel filter and registration voxel map at load; the kd-tree built by the first
+// query, each point's geometry by the first query of that point.
 #include <mrpt/system/CTicTac.h>
 #include <superloc/core/voxel.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/map/prior_map.h>
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 
 #include "kdtree.h"
@@ -17,52 +19,62 @@ namespace superloc::map {
 struct PriorMap::Impl {
     MapParams params;
     std::vector<Vec3f> points;
-    std::vector<PointGeometry> geometry;
     detail::PointsAdaptor adaptor;
     std::unique_ptr<detail::KdTree> tree;
     VoxelMap voxels;
     double prepare_seconds = 0;
-    // Lazy part: kd-tree and per-point geometry, built by the first query that needs them.
+    // Lazy part: the kd-tree and the geometry's storage, built by the first query that needs
+    // them, and each point's geometry, computed by the first query of that point (state: 0 = not
+    // yet, 1 = being computed by another thread, 2 = done).
     std::once_flag tree_once;
+    std::vector<PointGeometry> geometry;
+    std::unique_ptr<std::atomic<uint8_t>[]> state;
     std::vector<Vec3f> given_normals;
     std::optional<Vec3f> viewpoint;
 
     void buildTree();
-
-    void computeGeometry(
-        size_t begin, size_t end, const std::vector<Vec3f>& given_normals,
-        const std::optional<Vec3f>& viewpoint);
+    const PointGeometry& ensureGeometry(size_t i);
+    PointGeometry computeGeometry(size_t i) const;
 };
 
-void PriorMap::Impl::computeGeometry(
-    size_t begin, size_t end, const std::vector<Vec3f>& given_normals,
-    const std::optional<Vec3f>& viewpoint) {
+PointGeometry PriorMap::Impl::computeGeometry(size_t i) const {
     const size_t k = std::min<size_t>(static_cast<size_t>(params.normal_k), points.size());
     const float max_sq = static_cast<float>(params.normal_max_radius * params.normal_max_radius);
-    std::vector<uint32_t> idx(k);
-    std::vector<float> d2(k);
+    uint32_t idx[200];  // normal_k <= 200 (MapParams::validate)
+    float d2[200];
+    const size_t found = tree->knnSearch(points[i].data(), k, idx, d2);
     std::vector<Vec3f> nb;
-    nb.reserve(k);
-    for (size_t i = begin; i < end; ++i) {
-        const size_t found = tree->knnSearch(points[i].data(), k, idx.data(), d2.data());
-        nb.clear();
-        for (size_t j = 0; j < found; ++j)
-            if (d2[j] <= max_sq) nb.push_back(points[idx[j]]);
-        PointGeometry g = fitNeighborhood(nb);
-        // Orientation: toward the viewpoint, else like the file's own normal, else unsigned.
-        if (g.normal.squaredNorm() > 0) {
-            Vec3f ref = Vec3f::Zero();
-            if (viewpoint)
-                ref = *viewpoint - points[i];
-            else if (!given_normals.empty() && given_normals[i].allFinite())
-                ref = given_normals[i];
-            if (ref.squaredNorm() > 0) {
-                if (g.normal.dot(ref) < 0) g.normal = -g.normal;
-                g.oriented = true;
-            }
+    nb.reserve(found);
+    for (size_t j = 0; j < found; ++j)
+        if (d2[j] <= max_sq) nb.push_back(points[idx[j]]);
+    PointGeometry g = fitNeighborhood(nb);
+    // Orientation: toward the viewpoint, else like the file's own normal, else unsigned.
+    if (g.normal.squaredNorm() > 0) {
+        Vec3f ref = Vec3f::Zero();
+        if (viewpoint)
+            ref = *viewpoint - points[i];
+        else if (!given_normals.empty() && given_normals[i].allFinite())
+            ref = given_normals[i];
+        if (ref.squaredNorm() > 0) {
+            if (g.normal.dot(ref) < 0) g.normal = -g.normal;
+            g.oriented = true;
         }
-        geometry[i] = g;
     }
+    return g;
+}
+
+const PointGeometry& PriorMap::Impl::ensureGeometry(size_t i) {
+    buildTree();
+    std::atomic<uint8_t>& st = state[i];
+    uint8_t s = st.load(std::memory_order_acquire);
+    if (s == 2) return geometry[i];
+    if (s == 0 && st.compare_exchange_strong(s, 1, std::memory_order_acq_rel)) {
+        geometry[i] = computeGeometry(i);
+        st.store(2, std::memory_order_release);
+        return geometry[i];
+    }
+    while (st.load(std::memory_order_acquire) != 2) std::this_thread::yield();
+    return geometry[i];
 }
 
 PriorMap::PriorMap(
@@ -95,13 +107,7 @@ void PriorMap::Impl::buildTree() {
         adaptor.pts = &points;
         tree = std::make_unique<detail::KdTree>(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
         geometry.resize(points.size());
-        const size_t n = points.size();
-        const size_t threads = std::max(1u, std::thread::hardware_concurrency());
-        const size_t chunk = (n + threads - 1) / threads;
-        std::vector<std::thread> pool;
-        for (size_t t = 0; t < threads && t * chunk < n; ++t)
-            pool.emplace_back([&, t] { computeGeometry(t * chunk, std::min(n, (t + 1) * chunk), given_normals, viewpoint); });
-        for (auto& th : pool) th.join();
+        state = std::make_unique<std::atomic<uint8_t>[]>(points.size());
     });
 }
 
@@ -117,8 +123,8 @@ size_t PriorMap::size() const { return impl_->points.size(); }
 const std::vector<Vec3f>& PriorMap::points() const { return impl_->points; }
 const Vec3f& PriorMap::point(size_t i) const { return impl_->points.at(i); }
 const PointGeometry& PriorMap::geometry(size_t i) const {
-    impl_->buildTree();
-    return impl_->geometry.at(i);
+    if (i >= impl_->points.size()) throw std::out_of_range("PriorMap::geometry: point index out of range");
+    return impl_->ensureGeometry(i);
 }
 const VoxelMap& PriorMap::voxels() const { return impl_->voxels; }
 double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
@@ -126,7 +132,8 @@ double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
 size_t PriorMap::memoryBytes() const {
     size_t b = impl_->points.capacity() * sizeof(Vec3f) + impl_->voxels.memoryBytes() +
                impl_->given_normals.capacity() * sizeof(Vec3f) +
-               impl_->geometry.capacity() * sizeof(PointGeometry);
+               impl_->geometry.capacity() * sizeof(PointGeometry) +
+               (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0);
     if (impl_->tree) b += impl_->tree->usedMemory(*impl_->tree);
     return b;
 }

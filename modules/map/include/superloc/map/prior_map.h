@@ -1,6 +1,6 @@
 // The prior map: voxelized map points and the multi-resolution voxel map registration uses
-// (built at load). A kd-tree and per-point normal, planarity, linearity and fit residual are
-// built on first use (superloc-map's normals, tests), never by the localizer.
+// (built at load). A kd-tree is built by the first nearest-neighbour query; each point's normal,
+// planarity, linearity and fit residual are computed by the first query of that point.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -70,7 +70,8 @@ class PriorMap {
     size_t size() const;
     const std::vector<Vec3f>& points() const;
     const Vec3f& point(size_t i) const;
-    /// Per-point PCA geometry; the first call builds the kd-tree and every point's geometry.
+    /// Per-point PCA geometry (normal_k neighbours within normal_max_radius), computed by the
+    /// first call for that point; thread-safe. Throws std::out_of_range for a bad index.
     const PointGeometry& geometry(size_t i) const;
     /// The registration map (association of the localizer).
     const VoxelMap& voxels() const;
@@ -83,7 +84,8 @@ class PriorMap {
 
     /// Seconds spent voxelizing and building the voxel map (the lazy kd-tree not included).
     double prepareSeconds() const;
-    /// Resident bytes of the points, the voxel map and (once built) the kd-tree and geometry.
+    /// Resident bytes of the points, the voxel map, the per-point geometry and (once built) the
+    /// kd-tree.
     size_t memoryBytes() const;
 
    private:
