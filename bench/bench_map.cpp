@@ -6,7 +6,9 @@
 #include <benchmark/benchmark.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/localization/association.h>
+#include <superloc/io/map_tiles.h>
 #include <superloc/map/prior_map.h>
+#include <superloc/map/tiled_map.h>
 
 #include <chrono>
 
@@ -150,6 +152,63 @@ void BM_NearestMapScale(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_NearestMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+/// A 10^7-point "city" on disk in tiles, localized in through the tiles around the robot
+/// (doc/map.md "Tiled maps"): 100 halls of 10^5 points (50 x 20 x 4 m each, on a 10 x 10 grid
+/// 60 m x 30 m apart: 600 m x 300 m) written as 50 m tiles, then the tiles within 100 m of the
+/// middle hall loaded as the Localizer's map. Counters: write_s (splitting and writing all
+/// tiles), load_s (reading + preparing the tiles around), points_loaded of points_total,
+/// resident_MB of the loaded map after the associations (kd-tree and touched geometry
+/// included), assoc_ms_2000 (median of 200 associations of 2000 features in the middle hall)
+/// and assoc_ms_2000_one_hall (the same features in a map of that hall alone).
+void BM_TiledCity10M(benchmark::State& state) {
+    const PointCloud one = hall(100'000);
+    PointCloud city;
+    city.points.reserve(100 * one.size());
+    for (int i = 0; i < 10; ++i)
+        for (int j = 0; j < 10; ++j)
+            for (const Vec3f& p : one.points) city.points.push_back(p + Vec3f(60.f * i, 30.f * j, 0.f));
+    const auto dir = std::filesystem::temp_directory_path() / "superloc_bench_tiled_city";
+    std::filesystem::remove_all(dir);
+    const Vec3f mid(60.f * 5, 30.f * 5, 0.f);
+    std::vector<Vec3d> feats;  // on the middle hall's surfaces, 2 cm off
+    for (const Vec3f& q : hall(2000).points) feats.push_back((q + mid + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    map::MapParams p;
+    p.voxel_size = 0;
+    const auto medianAssoc = [&](const map::PriorMap& m) {
+        localization::AssociationParams ap;
+        std::vector<Correspondence> corr;
+        localization::AssociationStats st;
+        std::vector<double> ms;
+        for (int k = 0; k < 201; ++k) {
+            const auto a = std::chrono::steady_clock::now();
+            localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
+            if (k > 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
+        }
+        std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
+        return ms[100];
+    };
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        const io::MapTileIndex index = io::writeMapTiles(city, 50.0, dir.string());
+        const double write_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        map::TiledMap tiles(dir.string(), p, 100.0);
+        const auto around = tiles.loadAround(mid.cast<double>());
+        around->nearest(Vec3f::Zero());  // the kd-tree, as the first frame builds it
+        const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() - write_s;
+        state.counters["write_s"] = write_s;
+        state.counters["load_s"] = load_s;
+        state.counters["points_total"] = static_cast<double>(index.totalPoints());
+        state.counters["points_loaded"] = static_cast<double>(around->size());
+        state.counters["assoc_ms_2000"] = medianAssoc(*around);
+        state.counters["resident_MB"] = static_cast<double>(around->memoryBytes()) / 1e6;
+        PointCloud alone;
+        for (const Vec3f& q : one.points) alone.points.push_back(q + mid);
+        state.counters["assoc_ms_2000_one_hall"] = medianAssoc(map::PriorMap(alone, p));
+    }
+    std::filesystem::remove_all(dir);
+}
+BENCHMARK(BM_TiledCity10M)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 }  // namespace
 

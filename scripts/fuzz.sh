@@ -2,16 +2,16 @@
 # Builds the libFuzzer targets (tests/fuzz, clang-14 + libfuzzer-14-dev, ASan + UBSan) in
 # ./build-fuzz and runs each for SECONDS, one after the other (one job each: the machine has two
 # cores), seeded with cuts of the real files in the shared data folder.
-#   scripts/fuzz.sh SECONDS [TARGET...]      TARGET in: pcd ply kitti_bin tum ini cdr db3 mcap ros1
+#   scripts/fuzz.sh SECONDS [TARGET...]      TARGET in: pcd ply kitti_bin tum map_tiles ini cdr db3 mcap ros1
 #                                             (default: all)
 # Corpora grow in build-fuzz/corpus/<target>, crashes land in build-fuzz/artifacts/<target>/, the
 # logs in build-fuzz/logs/<target>.log; a table of executions and coverage is printed at the end.
 # Reproduce a crash: build-fuzz/fuzz/superloc-fuzz-<target> build-fuzz/artifacts/<target>/crash-...
 set -euo pipefail
-SECONDS_PER_TARGET=${1:?usage: scripts/fuzz.sh SECONDS [pcd ply kitti_bin tum ini cdr db3 mcap ros1]}
+SECONDS_PER_TARGET=${1:?usage: scripts/fuzz.sh SECONDS [pcd ply kitti_bin tum map_tiles ini cdr db3 mcap ros1]}
 shift
 TARGETS=("$@")
-[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(pcd ply kitti_bin tum ini cdr db3 mcap ros1)
+[ ${#TARGETS[@]} -eq 0 ] && TARGETS=(pcd ply kitti_bin tum map_tiles ini cdr db3 mcap ros1)
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 DATA=${SUPERLOC_SHARED_DATA:-$ROOT/../shared/data}

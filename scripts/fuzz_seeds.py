@@ -2,7 +2,7 @@
 """Seed corpora for the libFuzzer targets (scripts/fuzz.sh), cut from the real files in the
 shared data folder: small enough (tens of points) for fast executions, real in every byte.
 
-    fuzz_seeds.py DATA_DIR REPO_DIR OUT_DIR   ->  OUT_DIR/{pcd,ply,kitti_bin,tum,ini}/seed-*
+    fuzz_seeds.py DATA_DIR REPO_DIR OUT_DIR   ->  OUT_DIR/{pcd,ply,kitti_bin,tum,ini,map_tiles}/seed-*
 """
 import glob
 import os
@@ -101,7 +101,10 @@ def main():
     write(f"{out}/ini/seed-set.ini",
           "[localization]\nmethod=icp\n--set localization.max_corr_dist=0.7\n"
           "--set features.voxel_size=0.4\n--set risk.degenerate_threshold=0.2\n")
-    for sub in ("pcd", "ply", "kitti_bin", "tum", "ini"):
+    write(f"{out}/map_tiles/seed-index.csv",
+          "# superloc map tiles: tile (ix, iy) holds the points with floor(x/s) = ix, floor(y/s) = iy\n"
+          "tile_size,50\nix,iy,points,file\n0,0,2,t.pcd\n-1,3,2,t.pcd\n")
+    for sub in ("pcd", "ply", "kitti_bin", "tum", "ini", "map_tiles"):
         n = len(os.listdir(f"{out}/{sub}")) if os.path.isdir(f"{out}/{sub}") else 0
         print(f"seeds {sub}: {n}")
 

@@ -25,10 +25,16 @@ int main(int argc, char** argv) {
         app.run(bar);
         if (bar) std::cerr << "\n";
         const auto& r = app.result();
-        std::cout << args.out << ": " << r.map_points << " map points from " << r.scans_used
-                  << " scans (" << r.points_in << " points in";
-        if (r.scans_without_pose) std::cout << ", " << r.scans_without_pose << " scans without pose skipped";
-        std::cout << ")\n";
+        std::cout << args.out << ": " << r.map_points << " map points";
+        if (args.from_map.empty()) {
+            std::cout << " from " << r.scans_used << " scans (" << r.points_in << " points in";
+            if (r.scans_without_pose) std::cout << ", " << r.scans_without_pose << " scans without pose skipped";
+            std::cout << ")";
+        } else {
+            std::cout << " from " << args.from_map;
+        }
+        if (app.tilesWritten()) std::cout << " in " << app.tilesWritten() << " tiles of " << args.tile_size << " m";
+        std::cout << "\n";
         if (const auto& s = app.stats())
             std::cout << "median point-to-plane fit residual: " << s->median_fit_residual * 1000
                       << " mm (all points), " << s->median_planar_fit_residual * 1000

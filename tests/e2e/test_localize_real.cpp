@@ -12,9 +12,12 @@
 //    relocalization's local search keeps it on track; without it the turns lose it).
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
+#include <superloc/io/map_tiles.h>
+#include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 
 #include <cstdio>
+#include <filesystem>
 
 #include "e2e_run.h"
 #include "real_split.h"
@@ -211,4 +214,49 @@ TEST_F(RealSplitRuns, CampusWithoutRelocalizationTheTurnsLoseTrack) {
     EXPECT_EQ(r.summary.recovered, 0u);
     EXPECT_GT(r.worst_m, 0.3);
     std::cout << "campus split without relocalization: worst " << r.worst_m << " m / " << r.worst_deg << " deg\n";
+}
+
+// A map too large for memory is split into tiles on disk and localized in through the tiles
+// around the robot (doc/map.md, "Tiled maps"). The campus split's even-scan map in 5 m tiles,
+// loaded within 15 m of the robot and again after every 4 m it moves: the walk (18 x 12 m)
+// reloads the tiles several times, each load smaller than the whole map, and the odd scans are
+// localized as in the whole map (default INI, kd-tree association).
+TEST_F(RealSplitRuns, CampusInMapTilesLoadedAroundTheRobot) {
+    SUPERLOC_REQUIRE_DATA("campus-ouster/gt_tum.txt");
+    const PointCloud whole = io::loadPointCloud(campus_.map);
+    const std::string tiles = campus_.dir + "/tiles_5m";
+    std::filesystem::remove_all(tiles);
+    const io::MapTileIndex index = io::writeMapTiles(whole, 5.0, tiles);
+    ASSERT_EQ(index.totalPoints(), whole.size());
+    const std::vector<std::string> common = {"--rawlog", campus_.rawlog, "--set", "rawlog.scans=odd",
+                                             "--set", "features.deskew=false", "--initial-pose-tum", campus_.gt_tum};
+    auto whole_args = common;
+    whole_args.insert(whole_args.end(), {"--map", campus_.map});
+    auto tiled_args = common;
+    tiled_args.insert(tiled_args.end(),
+                      {"--map", tiles, "--set", "map.tile_radius=15", "--set", "map.tile_reload=4"});
+    const auto w = superloc::testing::localizeAndCompare(whole_args, campus_.dir + "/whole_map", campus_.gt_tum, 2.5);
+    const auto t = superloc::testing::localizeAndCompare(tiled_args, campus_.dir + "/tiled_map", campus_.gt_tum, 2.5);
+    ASSERT_EQ(t.frames.size(), 26u);
+    EXPECT_GE(t.summary.map_reloads, 2u);
+    EXPECT_LT(t.summary.map_points_max, w.summary.map_points);
+    EXPECT_LT(t.worst_m, 0.10);
+    EXPECT_LT(t.ate, w.ate + 0.01);
+    EXPECT_EQ(t.confidentlyWrong(), 0u);
+    std::cout << "campus split, tiles of 5 m within 15 m: ATE " << t.ate << " m (whole map " << w.ate << " m), worst "
+              << t.worst_m << " m, " << t.summary.map_reloads << " reloads, at most " << t.summary.map_points_max
+              << " of " << w.summary.map_points << " points, longest reload " << t.summary.map_reload_s_max << " s\n";
+
+    // A global start needs the whole map: with tiles it is a one-line error before any frame.
+    app::LocalizeApp a;
+    a.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    ASSERT_EQ(a.initialize({superloc::testing::sourcePath("ini/localize.ini"), "--rawlog", campus_.rawlog, "--map", tiles,
+                            "--initial-pose", "auto", "--out", campus_.dir + "/tiled_auto"}),
+              app::LocalizeApp::Action::Run);
+    try {
+        a.run();
+        ADD_FAILURE() << "--initial-pose auto ran on a tiled map";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("tiled map"), std::string::npos) << e.what();
+    }
 }

@@ -44,3 +44,24 @@ TEST(SuperlocMapExe, HelpAndBadInput) {
         EXPECT_EQ(r.err.rfind("superloc-map: ", 0), 0u) << r.err;
     }
 }
+
+TEST(SuperlocMapExe, SplitsAMapIntoTiles) {
+    if (!std::filesystem::exists(kExe)) GTEST_SKIP() << "superloc-map not built: " << kExe;
+    const std::string scan = superloc::testing::sharedData("campus-ouster/scans/0000.pcd");
+    if (!std::filesystem::exists(scan)) GTEST_SKIP() << "no shared data";
+    const std::string dir = superloc::testing::freshDir("map_app_exe_tiles");
+    const ExeResult ok = runExe("--from-map " + scan + " --tile-size 10 --out " + dir + "/tiles");
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_TRUE(std::filesystem::exists(dir + "/tiles/tiles.csv"));
+    EXPECT_TRUE(std::filesystem::exists(dir + "/tiles/tile_0_0.pcd"));
+    std::ofstream(dir + "/a_file") << "x";
+    for (const std::string& args :
+         {"--from-map " + scan + " --tile-size -1 --out " + dir + "/t2",
+          "--from-map " + scan + " --tile-size 10 --out " + dir + "/a_file",
+          "--from-map /nonexistent.pcd --out " + dir + "/m.pcd",
+          "--from-map " + scan + " --rawlog x.rawlog --out " + dir + "/m.pcd"}) {
+        const ExeResult r = runExe(args);
+        EXPECT_NE(r.code, 0) << args;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << args << ": " << r.err;
+    }
+}

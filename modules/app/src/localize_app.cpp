@@ -6,7 +6,9 @@
 #include <superloc/core/se3.h>
 #include <superloc/eval/timing.h>
 #include <superloc/eval/trajectory_metrics.h>
+#include <superloc/io/map_tiles.h>
 #include <superloc/io/tum.h>
+#include <superloc/map/tiled_map.h>
 #include <superloc/app/localize_app.h>
 #include <superloc/app/observability_scan.h>
 
@@ -81,7 +83,7 @@ void defineCommandLine(CLI::App& cli, LocalizeArgs& a) {
         "Flags override the INI keys of [run] and [localization] method.");
     cli.add_option("CONFIG.ini", a.config, "the configuration (e.g. ini/localize.ini)")->required();
     cli.add_option("--rawlog", a.rawlog, "input rawlog ([run] rawlog)");
-    cli.add_option("--map", a.map, "prior map .pcd/.ply/.bin/.txt/.pointsmap ([run] map)");
+    cli.add_option("--map", a.map, "prior map .pcd/.ply/.bin/.txt/.pointsmap, or a tile directory of superloc-map --tile-size ([run] map)");
     cli.add_option("--method", a.method,
                    "icp, ndt, superloc (odom_alt prior weighted by the alignment risk), passive\n"
                    "(odom_alt prior, fixed weight), eigen_remap (Zhang et al. 2016)");
@@ -177,11 +179,35 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin (--initial-pose auto searches "
                       "the whole map)");
 
+    // A tiled map (a directory with tiles.csv) is loaded around the initial pose, then again
+    // around the robot as it moves (doc/map.md "Tiled maps").
+    std::optional<map::TiledMap> tiles;
+    if (io::isMapTileDir(run_.map)) {
+        if (auto_pose)
+            throw ConfigError("--initial-pose auto searches a whole map; the tiled map " + run_.map +
+                              " is loaded around a given pose: give --initial-pose or --initial-pose-tum");
+        tiles.emplace(run_.map, map_, map_.tile_radius);
+    }
     const auto t_map = std::chrono::steady_clock::now();
-    auto prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
+    std::shared_ptr<const map::PriorMap> prior;
+    if (tiles) {
+        Vec3d c = Vec3d::Zero();  // the initial pose's position (a TUM file's first pose)
+        if (T0)
+            c = T0->translation();
+        else if (!T0_tum.empty())
+            c = T0_tum.front().pose.translation();
+        prior = tiles->loadAround(c);
+        MRPT_LOG_INFO_FMT("map %s: %zu of %zu tiles (%zu points) within %.0f m of (%.1f, %.1f)", run_.map.c_str(),
+                          tiles->tilesLoaded(), tiles->index().tiles.size(), tiles->pointsLoaded(),
+                          tiles->radius(), c.x(), c.y());
+    } else {
+        prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
+    }
     MRPT_LOG_INFO_FMT("map %s: %zu points, prepared in %.2f s", run_.map.c_str(), prior->size(),
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count());
-    if (prior->size() == 0) throw ConfigError(run_.map + ": the map has no points");
+    if (prior->size() == 0)
+        throw ConfigError(run_.map + (tiles ? ": no map tile within [map] tile_radius of the initial pose"
+                                            : ": the map has no points"));
     localization::Localizer loc(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
     if (loc.globalSearch())
@@ -230,6 +256,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     summary_.method = loc_.loc.method;
     summary_.map_points = prior->size();
     summary_.map_prepare_s = prior->prepareSeconds();
+    summary_.map_points_max = prior->size();
     std::vector<double> ms, cpu, st[5];
     Trajectory est, gt;
     io::RawlogItem item;
@@ -283,6 +310,22 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     }
                     const localization::FrameReport r = loc.process(item.scan());
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
+                    if (tiles && r.health != localization::Health::Lost &&
+                        (r.T_map_lidar.translation() - tiles->center()).head<2>().norm() > map_.tile_reload) {
+                        // Moved far enough from the loaded tiles' centre: the tiles around it.
+                        const auto t0 = std::chrono::steady_clock::now();
+                        auto next = tiles->loadAround(r.T_map_lidar.translation());
+                        if (next->size() > 0) {
+                            loc.setMap(next);
+                            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                            summary_.map_reloads++;
+                            summary_.map_points_max = std::max(summary_.map_points_max, next->size());
+                            summary_.map_reload_s_max = std::max(summary_.map_reload_s_max, s);
+                            MRPT_LOG_INFO_FMT("frame %zu: map tiles reloaded around (%.1f, %.1f): %zu tiles, %zu points, %.2f s",
+                                              r.index, tiles->center().x(), tiles->center().y(), tiles->tilesLoaded(),
+                                              next->size(), s);
+                        }
+                    }
                     out.addFrame(r, T, run_.save_localized_map
                                            ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
                                            : kNone);

@@ -3,6 +3,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <superloc/core/config.h>
+#include <superloc/io/map_tiles.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/app/command_line.h>
 #include <superloc/app/map_app.h>
@@ -31,6 +32,15 @@ void defineCommandLine(CLI::App& cli, MapAppArgs& a) {
                    "keyframe pose (PDF mean) and sensorPose")
         ->type_name("FILE")
         ->excludes(rawlog);
+    cli.add_option("--from-map", a.from_map,
+                   "input map file (any format --out writes, or .simplemap/.pointsmap) written as it is:\n"
+                   "to convert a map or split it into tiles (--tile-size)")
+        ->type_name("FILE")
+        ->excludes(rawlog);
+    cli.add_option("--tile-size", a.tile_size,
+                   "split the map into square x-y tiles of M metres: --out is then a directory of\n"
+                   "tile_IX_IY.pcd files and tiles.csv, for superloc-localize --map DIR (doc/map.md)")
+        ->type_name("M");
     cli.add_option("--poses", a.build.poses_tum,
                    "scan poses T_map_lidar (t x y z qx qy qz qw), interpolated at each scan's time;\n"
                    "default: the rawlog's `gt` CObservationRobotPose")
@@ -75,10 +85,19 @@ MapAppArgs parseMapAppArgs(const std::vector<std::string>& args) {
     defineCommandLine(cli, a);
     a.help = !parseCommandLine(cli, args);
     if (a.help) return a;
-    if (a.build.rawlog.empty() == a.build.simplemap.empty())
-        throw std::runtime_error("give one of --rawlog FILE or --simplemap FILE (see --help)");
-    if (io::formatFromExtension(a.out) == io::CloudFormat::MrptSimpleMap)
+    const int sources = !a.build.rawlog.empty() + !a.build.simplemap.empty() + !a.from_map.empty();
+    if (sources != 1)
+        throw std::runtime_error("give one of --rawlog FILE, --simplemap FILE or --from-map FILE (see --help)");
+    if (!a.from_map.empty() && !std::filesystem::exists(a.from_map))
+        throw std::runtime_error(a.from_map + ": no such map file");
+    if (!(a.tile_size >= 0) || !std::isfinite(a.tile_size))
+        throw std::runtime_error("--tile-size must be > 0 m");
+    if (a.tile_size > 0) {
+        if (std::filesystem::exists(a.out) && !std::filesystem::is_directory(a.out))
+            throw std::runtime_error(a.out + ": --tile-size writes a directory, and this is a file");
+    } else if (io::formatFromExtension(a.out) == io::CloudFormat::MrptSimpleMap) {
         throw std::runtime_error(a.out + ": cannot write a .simplemap; use .pointsmap");
+    }
     if (!a.build.rawlog.empty() && !std::filesystem::exists(a.build.rawlog))
         throw std::runtime_error(a.build.rawlog + ": no such rawlog");
     if (!a.build.simplemap.empty() && !std::filesystem::exists(a.build.simplemap))
@@ -98,10 +117,20 @@ MapAppArgs parseMapAppArgs(const std::vector<std::string>& args) {
 MapApp::MapApp(const MapAppArgs& args) : args_(args) {}
 
 void MapApp::run(const io::ProgressFn& progress) {
-    map::MapBuilder builder(args_.build);
-    const PointCloud map = builder.build(progress);
-    result_ = builder.result();
-    io::savePointCloud(args_.out, map);
+    PointCloud map;
+    if (!args_.from_map.empty()) {
+        map = io::loadPointCloud(args_.from_map);
+        result_ = {};
+        result_.points_in = result_.map_points = map.size();
+    } else {
+        map::MapBuilder builder(args_.build);
+        map = builder.build(progress);
+        result_ = builder.result();
+    }
+    if (args_.tile_size > 0)
+        tiles_written_ = io::writeMapTiles(map, args_.tile_size, args_.out).tiles.size();
+    else
+        io::savePointCloud(args_.out, map);
     if (args_.stats) {
         map::MapParams p;
         p.normal_max_radius = std::max(0.5, 5 * args_.build.voxel);

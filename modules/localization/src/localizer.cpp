@@ -44,23 +44,31 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
       g_map_(0, 0, -params.imu.gravity) {
-    if (!map_ || map_->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     assoc_.max_dist = params.loc.max_corr_dist;
     assoc_.voxel = params.loc.association == "voxel";
     assoc_.plane_max_thickness = params.features.plane_max_thickness;
     assoc_.line_min_linearity = params.features.line_min_linearity;
     assoc_.max_fit_residual = params.loc.max_fit_residual;
     assoc_.point_weight = params.loc.point_weight;
+    setMap(std::move(map_));
+}
+
+void Localizer::setMap(std::shared_ptr<const map::PriorMap> map) {
+    if (!map || map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
+    // The search refers to the map it was built on: drop it before the map it may outlive.
+    search_.reset();
+    ndt_.reset();
+    map_ = std::move(map);
     if (variant_.registration == Registration::Ndt) {
         NdtParams np;
-        np.resolution = params.loc.ndt_resolution;
-        np.step_size = params.loc.ndt_step_size;
-        np.epsilon = params.loc.ndt_epsilon;
-        np.max_iterations = params.loc.ndt_max_iterations;
+        np.resolution = params_.loc.ndt_resolution;
+        np.step_size = params_.loc.ndt_step_size;
+        np.epsilon = params_.loc.ndt_epsilon;
+        np.max_iterations = params_.loc.ndt_max_iterations;
         ndt_ = std::make_unique<NdtRegistration>(map_->points(), np);
     }
-    if (params.relocalization.enabled) {
-        search_ = std::make_unique<reloc::GlobalSearch>(*map_, params.global_search);
+    if (params_.relocalization.enabled) {
+        search_ = std::make_unique<reloc::GlobalSearch>(*map_, params_.global_search);
         search_->setMinLoggingLevel(getMinLoggingLevel());
     }
 }

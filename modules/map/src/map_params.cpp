@@ -15,6 +15,8 @@ void MapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     MRPT_LOAD_CONFIG_VAR(reg_levels, int, c, s);
     MRPT_LOAD_CONFIG_VAR(reg_overlap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(reg_min_points, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(tile_radius, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(tile_reload, double, c, s);
 }
 
 void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -25,6 +27,8 @@ void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(reg_levels, "registration voxel map: levels, each 2x coarser");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reg_overlap, "[-] voxel dilation per side, fraction of the edge");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reg_min_points, "voxels with fewer map points are dropped");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(tile_radius, "[m] tiled map: tiles within this x-y distance of the robot are loaded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(tile_reload, "[m] tiled map: reload around the robot after moving this far");
 }
 
 void MapParams::validate() const {
@@ -40,6 +44,9 @@ void MapParams::validate() const {
     if (!(reg_overlap >= 0 && reg_overlap < 0.5)) throw ConfigError("[map] reg_overlap must be in [0, 0.5)");
     if (reg_min_points < 3 || reg_min_points > 1000)
         throw ConfigError("[map] reg_min_points must be in [3, 1000]");
+    if (!std::isfinite(tile_radius) || tile_radius <= 0) throw ConfigError("[map] tile_radius must be > 0 m");
+    if (!std::isfinite(tile_reload) || tile_reload <= 0 || tile_reload >= tile_radius)
+        throw ConfigError("[map] tile_reload must be > 0 m and < tile_radius");
 }
 
 }  // namespace superloc::map

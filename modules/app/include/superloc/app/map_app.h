@@ -14,6 +14,8 @@ namespace superloc::app {
 
 struct MapAppArgs {
     map::MapBuildOptions build;
+    std::string from_map;     ///< input map file instead of a rawlog/simplemap (--from-map)
+    double tile_size = 0;     ///< [m] > 0: `out` is a tile directory (io/map_tiles.h)
     std::string out;          ///< output map (.pcd binary, .ply, .bin, .txt by extension)
     std::string config;       ///< optional INI ([rawlog] labels)
     std::vector<std::string> overrides;  ///< --set section.key=value
@@ -34,11 +36,14 @@ class MapApp {
     void run(const io::ProgressFn& progress = {});
     const map::MapBuildResult& result() const { return result_; }
     const std::optional<map::MapStats>& stats() const { return stats_; }
+    /// The tiles written (--tile-size), else empty.
+    size_t tilesWritten() const { return tiles_written_; }
 
    private:
     MapAppArgs args_;
     map::MapBuildResult result_;
     std::optional<map::MapStats> stats_;
+    size_t tiles_written_ = 0;
 };
 
 }  // namespace superloc::app

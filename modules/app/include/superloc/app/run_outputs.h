@@ -45,8 +45,13 @@ struct RunSummary {
     double ms_median = 0, ms_p95 = 0, ms_mean = 0, fps = 0;  ///< wall time per frame
     double cpu_ms_median = 0;  ///< thread CPU time per frame
     localization::StageTimes stage_median;  ///< median per stage
-    size_t map_points = 0;
+    size_t map_points = 0;     ///< of the map the first frame used
     double map_prepare_s = 0;
+    // A tiled map (doc/map.md "Tiled maps"): reloads around the robot after the first load,
+    // the largest map loaded and the longest reload (read + prepare + search rebuild).
+    size_t map_reloads = 0;
+    size_t map_points_max = 0;
+    double map_reload_s_max = 0;
     // Against the rawlog's ground truth when it has one (frames matched by time).
     size_t gt_matched = 0;
     double ate_rmse = -1, ate_max = -1;  ///< [m], -1 when no ground truth

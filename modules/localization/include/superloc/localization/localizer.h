@@ -67,6 +67,11 @@ class Localizer : public mrpt::system::COutputLogger {
     void relocalize(const std::optional<reloc::SearchRegion>& region = std::nullopt);
     /// The global search over the map (built at construction when [relocalization] enabled).
     const reloc::GlobalSearch* globalSearch() const { return search_.get(); }
+    /// Replaces the prior map between frames (the tiles around the robot of a map::TiledMap):
+    /// the next frames associate with `map`; the NDT grid and the global search are rebuilt
+    /// from it. The tracking state (pose, velocity, IMU, health) carries over. Throws
+    /// ConfigError for an empty map.
+    void setMap(std::shared_ptr<const map::PriorMap> map);
     /// Samples must come in time order, before the scans they precede.
     void addImu(const ImuSample& s);
     /// Second odometry (odom_alt) poses, kept for the relative-pose prior.

@@ -24,6 +24,10 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     int reg_levels = 3;         ///< levels, each twice as coarse as the previous
     double reg_overlap = 0.0;   ///< dilation of each voxel per side, fraction of its edge (doc/map.md)
     int reg_min_points = 5;     ///< voxels with fewer map points are dropped
+    // A tiled map (a directory of io/map_tiles.h): the tiles within tile_radius of the robot
+    // are loaded, again whenever it has moved tile_reload from the last centre (doc/map.md).
+    double tile_radius = 150;   ///< [m]
+    double tile_reload = 40;    ///< [m]
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
 
