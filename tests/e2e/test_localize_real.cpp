@@ -245,7 +245,8 @@ TEST_F(RealSplitRuns, CampusInMapTilesLoadedAroundTheRobot) {
     EXPECT_EQ(t.confidentlyWrong(), 0u);
     std::cout << "campus split, tiles of 5 m within 15 m: ATE " << t.ate << " m (whole map " << w.ate << " m), worst "
               << t.worst_m << " m, " << t.summary.map_reloads << " reloads, at most " << t.summary.map_points_max
-              << " of " << w.summary.map_points << " points, longest reload " << t.summary.map_reload_s_max << " s\n";
+              << " of " << w.summary.map_points << " points, longest load " << t.summary.map_reload_s_max
+              << " s, longest wait " << t.summary.map_reload_wait_s_max << " s\n";
 
     // A global start needs the whole map: with tiles it is a one-line error before any frame.
     app::LocalizeApp a;

@@ -109,3 +109,29 @@ TEST(Registration, NdtRecoversRelativePoseToo) {
     EXPECT_LT(translationDistance(r.T_map_lidar, T_first_second), 0.1);
     EXPECT_LT(rotationAngle(r.T_map_lidar, T_first_second) * 180 / M_PI, 1.0);
 }
+
+// Localizer::setMap (the tiles of a map::TiledMap swapped in between frames): a Localizer built
+// on the same scan 500 m away (where its own search would find it, 500 m off) and given the
+// real map before its frame registers in the real map; a map prepared for other parameters, or
+// an empty one, is refused.
+TEST(Registration, SetMapSwapsTheMapBetweenFrames) {
+    SUPERLOC_REQUIRE_DATA("scan-pair-outdoor/relative.txt");
+    ScanPair pair;
+    PointCloud far;
+    for (const Vec3f& p : pair.target->points()) far.points.push_back(p + Vec3f(500, 0, 0));
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const auto far_map = std::make_shared<map::PriorMap>(far, mp);
+    for (const std::string method : {"icp", "ndt"}) {
+        pair.params.loc.method = method;
+        Localizer loc(pair.params, far_map);
+        loc.setMap(Localizer::prepareMap(pair.params, pair.target));
+        loc.setInitialPose(SE3d::Identity());
+        const FrameReport r = loc.process(asScan(pair.second));
+        EXPECT_LT(translationDistance(r.T_map_lidar, pair.T_first_second), method == "icp" ? 0.03 : 0.1) << method;
+        LocalizerParams other = pair.params;
+        other.loc.method = method == "icp" ? "ndt" : "icp";
+        EXPECT_THROW(loc.setMap(Localizer::prepareMap(other, pair.target)), ConfigError) << method;
+        EXPECT_THROW(loc.setMap(std::make_shared<map::PriorMap>(PointCloud{}, mp)), ConfigError);
+    }
+}

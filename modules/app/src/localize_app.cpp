@@ -13,6 +13,7 @@
 #include <superloc/app/observability_scan.h>
 
 #include <chrono>
+#include <future>
 #include <cstdio>
 #include <limits>
 #include <filesystem>
@@ -182,6 +183,9 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     // A tiled map (a directory with tiles.csv) is loaded around the initial pose, then again
     // around the robot as it moves (doc/map.md "Tiled maps").
     std::optional<map::TiledMap> tiles;
+    Vec3d tiles_center = Vec3d::Zero();        // centre of the tiles in use
+    std::future<localization::PreparedMap> next_tiles;  // the tiles around next_center, loading
+    Vec3d next_center = Vec3d::Zero();
     if (io::isMapTileDir(run_.map)) {
         if (auto_pose)
             throw ConfigError("--initial-pose auto searches a whole map; the tiled map " + run_.map +
@@ -197,6 +201,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         else if (!T0_tum.empty())
             c = T0_tum.front().pose.translation();
         prior = tiles->loadAround(c);
+        tiles_center = c;
         MRPT_LOG_INFO_FMT("map %s: %zu of %zu tiles (%zu points) within %.0f m of (%.1f, %.1f)", run_.map.c_str(),
                           tiles->tilesLoaded(), tiles->index().tiles.size(), tiles->pointsLoaded(),
                           tiles->radius(), c.x(), c.y());
@@ -210,6 +215,38 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                             : ": the map has no points"));
     localization::Localizer loc(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
+    // Tiles follow the robot without stalling the frames: half-way to tile_reload from the
+    // centre in use, the tiles around the robot are read and prepared in a thread; at
+    // tile_reload they replace the map (waiting only if they are not ready yet). Both points
+    // depend on the poses alone, so a run is reproducible.
+    const auto updateTiles = [&](const Vec3d& p) {
+        const double d = (p - tiles_center).head<2>().norm();
+        if (!next_tiles.valid() && d > 0.5 * map_.tile_reload) {
+            next_center = p;
+            next_tiles = std::async(std::launch::async, [&tiles, p, params = loc_] {
+                auto m = tiles->loadAround(p);
+                if (m->size() == 0) return localization::PreparedMap{};
+                return localization::Localizer::prepareMap(params, std::move(m));
+            });
+        }
+        if (next_tiles.valid() && d > map_.tile_reload) {
+            const auto t0 = std::chrono::steady_clock::now();
+            localization::PreparedMap next = next_tiles.get();
+            if (!next.map) return;  // no tile there: keep the map in use
+            const size_t points = next.map->size();
+            loc.setMap(std::move(next));
+            tiles_center = next_center;
+            const double stall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            summary_.map_reloads++;
+            summary_.map_points_max = std::max(summary_.map_points_max, points);
+            summary_.map_reload_s_max = std::max(summary_.map_reload_s_max, tiles->lastLoadSeconds());
+            summary_.map_reload_wait_s_max = std::max(summary_.map_reload_wait_s_max, stall);
+            MRPT_LOG_INFO_FMT("map tiles around (%.1f, %.1f) in use: %zu tiles, %zu points (loaded in %.2f s, "
+                              "waited %.3f s)",
+                              next_center.x(), next_center.y(), tiles->tilesLoaded(), points, tiles->lastLoadSeconds(),
+                              stall);
+        }
+    };
     if (loc.globalSearch())
         MRPT_LOG_INFO_FMT("global search grids: %.2f s, %.1f MB", loc.globalSearch()->buildSeconds(),
                           static_cast<double>(loc.globalSearch()->memoryBytes()) / 1e6);
@@ -310,22 +347,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     }
                     const localization::FrameReport r = loc.process(item.scan());
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
-                    if (tiles && r.health != localization::Health::Lost &&
-                        (r.T_map_lidar.translation() - tiles->center()).head<2>().norm() > map_.tile_reload) {
-                        // Moved far enough from the loaded tiles' centre: the tiles around it.
-                        const auto t0 = std::chrono::steady_clock::now();
-                        auto next = tiles->loadAround(r.T_map_lidar.translation());
-                        if (next->size() > 0) {
-                            loc.setMap(next);
-                            const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                            summary_.map_reloads++;
-                            summary_.map_points_max = std::max(summary_.map_points_max, next->size());
-                            summary_.map_reload_s_max = std::max(summary_.map_reload_s_max, s);
-                            MRPT_LOG_INFO_FMT("frame %zu: map tiles reloaded around (%.1f, %.1f): %zu tiles, %zu points, %.2f s",
-                                              r.index, tiles->center().x(), tiles->center().y(), tiles->tilesLoaded(),
-                                              next->size(), s);
-                        }
-                    }
+                    if (tiles && r.health != localization::Health::Lost) updateTiles(r.T_map_lidar.translation());
                     out.addFrame(r, T, run_.save_localized_map
                                            ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
                                            : kNone);

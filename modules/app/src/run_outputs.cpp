@@ -150,6 +150,7 @@ io::Json summaryJson(const RunSummary& s) {
             {"map_reloads", s.map_reloads},
             {"map_points_max", s.map_points_max},
             {"map_reload_s_max", s.map_reload_s_max},
+            {"map_reload_wait_s_max", s.map_reload_wait_s_max},
             {"gt_frames_matched", s.gt_matched},
             {"ate_rmse_vs_rawlog_gt", orNull(s.ate_rmse)},
             {"ate_max_vs_rawlog_gt", orNull(s.ate_max)},

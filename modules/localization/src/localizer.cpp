@@ -53,25 +53,40 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
     setMap(std::move(map_));
 }
 
-void Localizer::setMap(std::shared_ptr<const map::PriorMap> map) {
+PreparedMap::PreparedMap() = default;
+PreparedMap::PreparedMap(PreparedMap&&) noexcept = default;
+PreparedMap& PreparedMap::operator=(PreparedMap&&) noexcept = default;
+PreparedMap::~PreparedMap() = default;
+
+PreparedMap Localizer::prepareMap(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map) {
     if (!map || map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
-    // The search refers to the map it was built on: drop it before the map it may outlive.
-    search_.reset();
-    ndt_.reset();
-    map_ = std::move(map);
-    if (variant_.registration == Registration::Ndt) {
+    PreparedMap p;
+    p.map = std::move(map);
+    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion).registration == Registration::Ndt) {
         NdtParams np;
-        np.resolution = params_.loc.ndt_resolution;
-        np.step_size = params_.loc.ndt_step_size;
-        np.epsilon = params_.loc.ndt_epsilon;
-        np.max_iterations = params_.loc.ndt_max_iterations;
-        ndt_ = std::make_unique<NdtRegistration>(map_->points(), np);
+        np.resolution = params.loc.ndt_resolution;
+        np.step_size = params.loc.ndt_step_size;
+        np.epsilon = params.loc.ndt_epsilon;
+        np.max_iterations = params.loc.ndt_max_iterations;
+        p.ndt = std::make_unique<NdtRegistration>(p.map->points(), np);
     }
-    if (params_.relocalization.enabled) {
-        search_ = std::make_unique<reloc::GlobalSearch>(*map_, params_.global_search);
-        search_->setMinLoggingLevel(getMinLoggingLevel());
-    }
+    if (params.relocalization.enabled) p.search = std::make_unique<reloc::GlobalSearch>(*p.map, params.global_search);
+    return p;
 }
+
+void Localizer::setMap(PreparedMap&& prepared) {
+    if (!prepared.map || prepared.map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
+    if (static_cast<bool>(prepared.ndt) != (variant_.registration == Registration::Ndt) ||
+        static_cast<bool>(prepared.search) != params_.relocalization.enabled)
+        throw ConfigError("Localizer::setMap: the map was prepared for other parameters");
+    // The old search refers to the old map: replace it before the map it may outlive.
+    search_ = std::move(prepared.search);
+    ndt_ = std::move(prepared.ndt);
+    map_ = std::move(prepared.map);
+    if (search_) search_->setMinLoggingLevel(getMinLoggingLevel());
+}
+
+void Localizer::setMap(std::shared_ptr<const map::PriorMap> map) { setMap(prepareMap(params_, std::move(map))); }
 
 void Localizer::relocalize(const std::optional<reloc::SearchRegion>& region) {
     if (!search_) throw ConfigError("relocalize(): [relocalization] enabled = false");

@@ -47,11 +47,13 @@ struct RunSummary {
     localization::StageTimes stage_median;  ///< median per stage
     size_t map_points = 0;     ///< of the map the first frame used
     double map_prepare_s = 0;
-    // A tiled map (doc/map.md "Tiled maps"): reloads around the robot after the first load,
-    // the largest map loaded and the longest reload (read + prepare + search rebuild).
+    // A tiled map (doc/map.md "Tiled maps"): maps swapped in after the first, the largest map
+    // loaded, the longest tile read + PriorMap preparation (in a thread) and the longest wait of
+    // the frame loop for a map to be ready and swapped in.
     size_t map_reloads = 0;
     size_t map_points_max = 0;
     double map_reload_s_max = 0;
+    double map_reload_wait_s_max = 0;
     // Against the rawlog's ground truth when it has one (frames matched by time).
     size_t gt_matched = 0;
     double ate_rmse = -1, ate_max = -1;  ///< [m], -1 when no ground truth

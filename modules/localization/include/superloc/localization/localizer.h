@@ -33,6 +33,20 @@
 namespace superloc::localization {
 
 class NdtRegistration;
+struct LocalizerParams;
+
+/// A prior map with what the Localizer builds on it: the NDT grid (method ndt) and the global
+/// search ([relocalization] enabled). Localizer::prepareMap makes one, e.g. in another thread
+/// while frames go on; Localizer::setMap swaps it in between frames.
+struct PreparedMap {
+    std::shared_ptr<const map::PriorMap> map;
+    std::unique_ptr<NdtRegistration> ndt;
+    std::unique_ptr<reloc::GlobalSearch> search;
+    PreparedMap();
+    PreparedMap(PreparedMap&&) noexcept;
+    PreparedMap& operator=(PreparedMap&&) noexcept;
+    ~PreparedMap();
+};
 
 /// Every section the Localizer reads, loaded and validated together.
 struct LocalizerParams {
@@ -67,10 +81,15 @@ class Localizer : public mrpt::system::COutputLogger {
     void relocalize(const std::optional<reloc::SearchRegion>& region = std::nullopt);
     /// The global search over the map (built at construction when [relocalization] enabled).
     const reloc::GlobalSearch* globalSearch() const { return search_.get(); }
-    /// Replaces the prior map between frames (the tiles around the robot of a map::TiledMap):
-    /// the next frames associate with `map`; the NDT grid and the global search are rebuilt
-    /// from it. The tracking state (pose, velocity, IMU, health) carries over. Throws
+    /// Builds what `params` need on `map` (thread-safe: touches no Localizer). Throws
     /// ConfigError for an empty map.
+    static PreparedMap prepareMap(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map);
+    /// Replaces the prior map between frames (the tiles around the robot of a map::TiledMap):
+    /// the next frames associate with the new map, its NDT grid and global search. The
+    /// tracking state (pose, velocity, IMU, health) carries over. `prepared` must come from
+    /// prepareMap with this Localizer's parameters.
+    void setMap(PreparedMap&& prepared);
+    /// prepareMap(params, map), then setMap.
     void setMap(std::shared_ptr<const map::PriorMap> map);
     /// Samples must come in time order, before the scans they precede.
     void addImu(const ImuSample& s);
