@@ -18,6 +18,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 #include "e2e_run.h"
 #include "real_split.h"
@@ -247,6 +248,37 @@ TEST_F(RealSplitRuns, CampusInMapTilesLoadedAroundTheRobot) {
               << t.worst_m << " m, " << t.summary.map_reloads << " reloads, at most " << t.summary.map_points_max
               << " of " << w.summary.map_points << " points, longest load " << t.summary.map_reload_s_max
               << " s, longest wait " << t.summary.map_reload_wait_s_max << " s\n";
+
+    // A corrupt tile that only a reload reads (tile (-4, 2), 18 m from the start, near the walk's
+    // far end): the run stops there with a one-line error naming the tile, and the frames before
+    // it are in trajectory.tum.
+    const std::string bad_tiles = campus_.dir + "/tiles_5m_bad";
+    std::filesystem::remove_all(bad_tiles);
+    std::filesystem::copy(tiles, bad_tiles);
+    ASSERT_TRUE(std::filesystem::exists(bad_tiles + "/tile_-4_2.pcd"));
+    std::ofstream(bad_tiles + "/tile_-4_2.pcd", std::ios::trunc) << "# .PCD v0.7\nFIELDS x y\nnot a pcd\n";
+    {
+        app::LocalizeApp a;
+        a.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        const std::string out = campus_.dir + "/tiled_bad";
+        ASSERT_EQ(a.initialize({superloc::testing::sourcePath("ini/localize.ini"), "--rawlog", campus_.rawlog, "--map",
+                                bad_tiles, "--set", "rawlog.scans=odd", "--set", "features.deskew=false", "--set",
+                                "map.tile_radius=15", "--set", "map.tile_reload=4", "--initial-pose-tum",
+                                campus_.gt_tum, "--out", out}),
+                  app::LocalizeApp::Action::Run);
+        std::string error;
+        try {
+            a.run();
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        EXPECT_NE(error.find("tile_-4_2.pcd"), std::string::npos) << error;
+        EXPECT_EQ(error.find('\n'), std::string::npos) << error;
+        const size_t kept = io::loadTum(out + "/trajectory.tum").size();
+        EXPECT_GT(kept, 5u);
+        EXPECT_LT(kept, 26u);
+        std::cout << "corrupt tile: stopped after " << kept << " frames: " << error << "\n";
+    }
 
     // A global start needs the whole map: with tiles it is a one-line error before any frame.
     app::LocalizeApp a;
