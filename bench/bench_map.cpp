@@ -39,6 +39,31 @@ PointCloud hall(size_t n) {
     return c;
 }
 
+/// 2000 association features on the hall's surfaces (2 cm off), shifted by `offset`.
+std::vector<Vec3d> hallFeatures(const Vec3f& offset = Vec3f::Zero()) {
+    std::vector<Vec3d> feats;
+    for (const Vec3f& q : hall(2000).points) feats.push_back((q + offset + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    return feats;
+}
+
+/// Median [ms] of 200 associations of `feats` at the identity (after one untimed), and the
+/// correspondences of the last one.
+double medianAssociationMs(const std::vector<Vec3d>& feats, const map::PriorMap& m,
+                           const localization::AssociationParams& ap, size_t* matched = nullptr) {
+    std::vector<Correspondence> corr;
+    localization::AssociationStats st;
+    localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
+    std::vector<double> ms;
+    for (int k = 0; k < 200; ++k) {
+        const auto a = std::chrono::steady_clock::now();
+        localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
+        ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
+    }
+    std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
+    if (matched) *matched = corr.size();
+    return ms[100];
+}
+
 void BM_PrepareMap1M(benchmark::State& state) {
     const PointCloud cloud = hall(1'000'000);
     map::MapParams p;
@@ -88,28 +113,19 @@ void BM_VoxelMapScale(benchmark::State& state) {
     const PointCloud cloud = hall(n);
     map::MapParams p;
     p.voxel_size = 0;
-    std::vector<Vec3d> feats;  // on the surfaces, 2 cm off
-    for (const Vec3f& q : hall(2000).points) feats.push_back((q + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    const std::vector<Vec3d> feats = hallFeatures();
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const map::PriorMap m(cloud, p);
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         localization::AssociationParams ap;
         ap.voxel = true;
-        std::vector<Correspondence> corr;
-        localization::AssociationStats st;
-        std::vector<double> ms;
-        for (int k = 0; k < 200; ++k) {
-            const auto a = std::chrono::steady_clock::now();
-            localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
-        }
-        std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
+        size_t matched = 0;
+        state.counters["assoc_ms_2000"] = medianAssociationMs(feats, m, ap, &matched);
         state.counters["prepare_s_per_1M"] = prep / (static_cast<double>(n) / 1e6);
         state.counters["bytes_per_point"] = static_cast<double>(m.memoryBytes()) / static_cast<double>(n);
         state.counters["voxels_finest"] = static_cast<double>(m.voxels().info()[0].voxels);
-        state.counters["assoc_ms_2000"] = ms[100];
-        state.counters["matched"] = static_cast<double>(corr.size());
+        state.counters["matched"] = static_cast<double>(matched);
     }
 }
 BENCHMARK(BM_VoxelMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -124,31 +140,24 @@ void BM_NearestMapScale(benchmark::State& state) {
     const PointCloud cloud = hall(n);
     map::MapParams p;
     p.voxel_size = 0;
-    std::vector<Vec3d> feats;  // on the surfaces, 2 cm off
-    for (const Vec3f& q : hall(2000).points) feats.push_back((q + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    const std::vector<Vec3d> feats = hallFeatures();
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const map::PriorMap m(cloud, p);
         m.nearest(Vec3f::Zero());  // builds the kd-tree
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        localization::AssociationParams ap;
+        const localization::AssociationParams ap;
         std::vector<Correspondence> corr;
         localization::AssociationStats st;
         const auto f0 = std::chrono::steady_clock::now();
         localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
-        const double first = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f0).count();
-        std::vector<double> ms;
-        for (int k = 0; k < 200; ++k) {
-            const auto a = std::chrono::steady_clock::now();
-            localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
-            ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
-        }
-        std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
+        state.counters["first_assoc_ms"] =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - f0).count();
+        size_t matched = 0;
+        state.counters["assoc_ms_2000"] = medianAssociationMs(feats, m, ap, &matched);
         state.counters["prepare_s_per_1M"] = prep / (static_cast<double>(n) / 1e6);
         state.counters["bytes_per_point"] = static_cast<double>(m.memoryBytes()) / static_cast<double>(n);
-        state.counters["first_assoc_ms"] = first;
-        state.counters["assoc_ms_2000"] = ms[100];
-        state.counters["matched"] = static_cast<double>(corr.size());
+        state.counters["matched"] = static_cast<double>(matched);
     }
 }
 BENCHMARK(BM_NearestMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
@@ -171,23 +180,10 @@ void BM_TiledCity10M(benchmark::State& state) {
     const auto dir = std::filesystem::temp_directory_path() / "superloc_bench_tiled_city";
     std::filesystem::remove_all(dir);
     const Vec3f mid(60.f * 5, 30.f * 5, 0.f);
-    std::vector<Vec3d> feats;  // on the middle hall's surfaces, 2 cm off
-    for (const Vec3f& q : hall(2000).points) feats.push_back((q + mid + Vec3f(0.02f, 0.02f, 0.02f)).cast<double>());
+    const std::vector<Vec3d> feats = hallFeatures(mid);
     map::MapParams p;
     p.voxel_size = 0;
-    const auto medianAssoc = [&](const map::PriorMap& m) {
-        localization::AssociationParams ap;
-        std::vector<Correspondence> corr;
-        localization::AssociationStats st;
-        std::vector<double> ms;
-        for (int k = 0; k < 201; ++k) {
-            const auto a = std::chrono::steady_clock::now();
-            localization::associate(feats, SE3d::Identity(), m, ap, corr, st);
-            if (k > 0) ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count());
-        }
-        std::nth_element(ms.begin(), ms.begin() + 100, ms.end());
-        return ms[100];
-    };
+    const localization::AssociationParams ap;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const io::MapTileIndex index = io::writeMapTiles(city, 50.0, dir.string());
@@ -200,11 +196,11 @@ void BM_TiledCity10M(benchmark::State& state) {
         state.counters["load_s"] = load_s;
         state.counters["points_total"] = static_cast<double>(index.totalPoints());
         state.counters["points_loaded"] = static_cast<double>(around->size());
-        state.counters["assoc_ms_2000"] = medianAssoc(*around);
+        state.counters["assoc_ms_2000"] = medianAssociationMs(feats, *around, ap);
         state.counters["resident_MB"] = static_cast<double>(around->memoryBytes()) / 1e6;
         PointCloud alone;
         for (const Vec3f& q : one.points) alone.points.push_back(q + mid);
-        state.counters["assoc_ms_2000_one_hall"] = medianAssoc(map::PriorMap(alone, p));
+        state.counters["assoc_ms_2000_one_hall"] = medianAssociationMs(feats, map::PriorMap(alone, p), ap);
     }
     std::filesystem::remove_all(dir);
 }
