@@ -104,12 +104,16 @@ void BM_Knn10(benchmark::State& state) {
 }
 BENCHMARK(BM_Knn10)->Unit(benchmark::kMicrosecond);
 
-/// The same hall with state.range(0) points: PriorMap preparation (voxel map only; the kd-tree
-/// is lazy) and one frame's voxel association (2000 features near the surfaces, finest level).
-/// Counters: prepare_s_per_1M, bytes_per_point (points + voxel map), assoc_ms_2000 (median of
-/// 200 associations).
-void BM_VoxelMapScale(benchmark::State& state) {
+/// The same hall with state.range(0) points, for each association (state.range(1): 0 = nearest,
+/// the default: kd-tree and per-point geometry on first use; 1 = voxel, the registration voxel
+/// map). Counters: prepare_s_per_1M (PriorMap, plus for nearest the kd-tree the first query
+/// builds), bytes_per_point (after the associations: points, voxel map, and for nearest the
+/// kd-tree and the geometry), first_assoc_ms (the first association: for nearest it computes the
+/// geometry of the points it touches), assoc_ms_2000 (median of 200 later associations of 2000
+/// features near the surfaces), matched, voxels_finest.
+void BM_MapScale(benchmark::State& state) {
     const size_t n = static_cast<size_t>(state.range(0));
+    const bool voxel = state.range(1) == 1;
     const PointCloud cloud = hall(n);
     map::MapParams p;
     p.voxel_size = 0;
@@ -117,36 +121,10 @@ void BM_VoxelMapScale(benchmark::State& state) {
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const map::PriorMap m(cloud, p);
+        if (!voxel) m.nearest(Vec3f::Zero());  // builds the kd-tree
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         localization::AssociationParams ap;
-        ap.voxel = true;
-        size_t matched = 0;
-        state.counters["assoc_ms_2000"] = medianAssociationMs(feats, m, ap, &matched);
-        state.counters["prepare_s_per_1M"] = prep / (static_cast<double>(n) / 1e6);
-        state.counters["bytes_per_point"] = static_cast<double>(m.memoryBytes()) / static_cast<double>(n);
-        state.counters["voxels_finest"] = static_cast<double>(m.voxels().info()[0].voxels);
-        state.counters["matched"] = static_cast<double>(matched);
-    }
-}
-BENCHMARK(BM_VoxelMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
-
-/// The default association (association = nearest: kd-tree, per-point geometry on first use) on
-/// the same hall with state.range(0) points. Counters: prepare_s_per_1M (PriorMap + the kd-tree
-/// the first query builds), bytes_per_point (after the associations: points, voxel map, kd-tree,
-/// geometry), first_assoc_ms (the first association: computes the geometry of the points it
-/// touches), assoc_ms_2000 (median of 200 later associations).
-void BM_NearestMapScale(benchmark::State& state) {
-    const size_t n = static_cast<size_t>(state.range(0));
-    const PointCloud cloud = hall(n);
-    map::MapParams p;
-    p.voxel_size = 0;
-    const std::vector<Vec3d> feats = hallFeatures();
-    for (auto _ : state) {
-        const auto t0 = std::chrono::steady_clock::now();
-        const map::PriorMap m(cloud, p);
-        m.nearest(Vec3f::Zero());  // builds the kd-tree
-        const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const localization::AssociationParams ap;
+        ap.voxel = voxel;
         std::vector<Correspondence> corr;
         localization::AssociationStats st;
         const auto f0 = std::chrono::steady_clock::now();
@@ -157,10 +135,15 @@ void BM_NearestMapScale(benchmark::State& state) {
         state.counters["assoc_ms_2000"] = medianAssociationMs(feats, m, ap, &matched);
         state.counters["prepare_s_per_1M"] = prep / (static_cast<double>(n) / 1e6);
         state.counters["bytes_per_point"] = static_cast<double>(m.memoryBytes()) / static_cast<double>(n);
+        state.counters["voxels_finest"] = static_cast<double>(m.voxels().info()[0].voxels);
         state.counters["matched"] = static_cast<double>(matched);
     }
 }
-BENCHMARK(BM_NearestMapScale)->Arg(100'000)->Arg(1'000'000)->Arg(10'000'000)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_MapScale)
+    ->ArgsProduct({{100'000, 1'000'000, 10'000'000}, {0, 1}})
+    ->ArgNames({"points", "voxel"})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 /// A 10^7-point "city" on disk in tiles, localized in through the tiles around the robot
 /// (doc/map.md "Tiled maps"): 100 halls of 10^5 points (50 x 20 x 4 m each, on a 10 x 10 grid
