@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/localization/association.h>
+#include <superloc/localization/localizer.h>
 #include <superloc/io/map_tiles.h>
 #include <superloc/map/prior_map.h>
 #include <superloc/map/tiled_map.h>
@@ -152,7 +153,9 @@ BENCHMARK(BM_MapScale)
 /// tiles), load_s (reading + preparing the tiles around), points_loaded of points_total,
 /// resident_MB of the loaded map after the associations (kd-tree and touched geometry
 /// included), assoc_ms_2000 (median of 200 associations of 2000 features in the middle hall)
-/// and assoc_ms_2000_one_hall (the same features in a map of that hall alone).
+/// and assoc_ms_2000_one_hall (the same features in a map of that hall alone); localizer_prepare_s
+/// and search_MB: Localizer::prepareMap on the loaded map with the default parameters (the
+/// global search's grids), as the app does in its thread at each reload.
 void BM_TiledCity10M(benchmark::State& state) {
     const PointCloud one = hall(100'000);
     PointCloud city;
@@ -181,6 +184,11 @@ void BM_TiledCity10M(benchmark::State& state) {
         state.counters["points_loaded"] = static_cast<double>(around->size());
         state.counters["assoc_ms_2000"] = medianAssociationMs(feats, *around, ap);
         state.counters["resident_MB"] = static_cast<double>(around->memoryBytes()) / 1e6;
+        // What the Localizer builds on it with the default parameters (the global search).
+        const auto p0 = std::chrono::steady_clock::now();
+        const localization::PreparedMap prepared = localization::Localizer::prepareMap(localization::LocalizerParams{}, around);
+        state.counters["localizer_prepare_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+        state.counters["search_MB"] = prepared.search ? static_cast<double>(prepared.search->memoryBytes()) / 1e6 : 0.0;
         PointCloud alone;
         for (const Vec3f& q : one.points) alone.points.push_back(q + mid);
         state.counters["assoc_ms_2000_one_hall"] = medianAssociationMs(feats, map::PriorMap(alone, p), ap);
