@@ -232,10 +232,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         if (next_tiles.valid() && d > map_.tile_reload) {
             const auto t0 = std::chrono::steady_clock::now();
             localization::PreparedMap next = next_tiles.get();
-            if (!next.map) return;  // no tile there: keep the map in use
+            tiles_center = next_center;
+            if (!next.map) return;  // no tile there: keep the map in use (tried again further on)
             const size_t points = next.map->size();
             loc.setMap(std::move(next));
-            tiles_center = next_center;
             const double stall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             summary_.map_reloads++;
             summary_.map_points_max = std::max(summary_.map_points_max, points);
