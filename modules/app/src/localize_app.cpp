@@ -8,12 +8,11 @@
 #include <superloc/eval/trajectory_metrics.h>
 #include <superloc/io/map_tiles.h>
 #include <superloc/io/tum.h>
-#include <superloc/map/tiled_map.h>
+#include <superloc/localization/map_tile_follower.h>
 #include <superloc/app/localize_app.h>
 #include <superloc/app/observability_scan.h>
 
 #include <chrono>
-#include <future>
 #include <cstdio>
 #include <limits>
 #include <filesystem>
@@ -180,17 +179,14 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         MRPT_LOG_WARN("no initial pose given: the first scan starts at the map origin (--initial-pose auto searches "
                       "the whole map)");
 
-    // A tiled map (a directory with tiles.csv) is loaded around the initial pose, then again
-    // around the robot as it moves (doc/map.md "Tiled maps").
-    std::optional<map::TiledMap> tiles;
-    Vec3d tiles_center = Vec3d::Zero();        // centre of the tiles in use
-    std::future<localization::PreparedMap> next_tiles;  // the tiles around next_center, loading
-    Vec3d next_center = Vec3d::Zero();
+    // A tiled map (a directory with tiles.csv) is loaded around the initial pose, then follows
+    // the robot (localization::MapTileFollower, doc/map.md "Tiled maps").
+    std::optional<localization::MapTileFollower> tiles;
     if (io::isMapTileDir(run_.map)) {
         if (auto_pose)
             throw ConfigError("--initial-pose auto searches a whole map; the tiled map " + run_.map +
                               " is loaded around a given pose: give --initial-pose or --initial-pose-tum");
-        tiles.emplace(run_.map, map_, map_.tile_radius);
+        tiles.emplace(run_.map, map_, loc_);
     }
     const auto t_map = std::chrono::steady_clock::now();
     std::shared_ptr<const map::PriorMap> prior;
@@ -200,11 +196,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
             c = T0->translation();
         else if (!T0_tum.empty())
             c = T0_tum.front().pose.translation();
-        prior = tiles->loadAround(c);
-        tiles_center = c;
+        prior = tiles->start(c);
         MRPT_LOG_INFO_FMT("map %s: %zu of %zu tiles (%zu points) within %.0f m of (%.1f, %.1f)", run_.map.c_str(),
-                          tiles->tilesLoaded(), tiles->index().tiles.size(), tiles->pointsLoaded(),
-                          tiles->radius(), c.x(), c.y());
+                          tiles->tiles().tilesLoaded(), tiles->tiles().index().tiles.size(),
+                          tiles->tiles().pointsLoaded(), tiles->tiles().radius(), c.x(), c.y());
     } else {
         prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
     }
@@ -215,38 +210,6 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                             : ": the map has no points"));
     localization::Localizer loc(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
-    // Tiles follow the robot without stalling the frames: half-way to tile_reload from the
-    // centre in use, the tiles around the robot are read and prepared in a thread; at
-    // tile_reload they replace the map (waiting only if they are not ready yet). Both points
-    // depend on the poses alone, so a run is reproducible.
-    const auto updateTiles = [&](const Vec3d& p) {
-        const double d = (p - tiles_center).head<2>().norm();
-        if (!next_tiles.valid() && d > 0.5 * map_.tile_reload) {
-            next_center = p;
-            next_tiles = std::async(std::launch::async, [&tiles, p, params = loc_] {
-                auto m = tiles->loadAround(p);
-                if (m->size() == 0) return localization::PreparedMap{};
-                return localization::Localizer::prepareMap(params, std::move(m));
-            });
-        }
-        if (next_tiles.valid() && d > map_.tile_reload) {
-            const auto t0 = std::chrono::steady_clock::now();
-            localization::PreparedMap next = next_tiles.get();
-            tiles_center = next_center;
-            if (!next.map) return;  // no tile there: keep the map in use (tried again further on)
-            const size_t points = next.map->size();
-            loc.setMap(std::move(next));
-            const double stall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            summary_.map_reloads++;
-            summary_.map_points_max = std::max(summary_.map_points_max, points);
-            summary_.map_reload_s_max = std::max(summary_.map_reload_s_max, tiles->lastLoadSeconds());
-            summary_.map_reload_wait_s_max = std::max(summary_.map_reload_wait_s_max, stall);
-            MRPT_LOG_INFO_FMT("map tiles around (%.1f, %.1f) in use: %zu tiles, %zu points (loaded in %.2f s, "
-                              "waited %.3f s)",
-                              next_center.x(), next_center.y(), tiles->tilesLoaded(), points, tiles->lastLoadSeconds(),
-                              stall);
-        }
-    };
     if (loc.globalSearch())
         MRPT_LOG_INFO_FMT("global search grids: %.2f s, %.1f MB", loc.globalSearch()->buildSeconds(),
                           static_cast<double>(loc.globalSearch()->memoryBytes()) / 1e6);
@@ -347,7 +310,18 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     }
                     const localization::FrameReport r = loc.process(item.scan());
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
-                    if (tiles && r.health != localization::Health::Lost) updateTiles(r.T_map_lidar.translation());
+                    if (tiles && r.health != localization::Health::Lost &&
+                        tiles->update(r.T_map_lidar.translation(), loc)) {
+                        const auto& ts = tiles->stats();
+                        summary_.map_reloads = ts.reloads;
+                        summary_.map_points_max = ts.points_max;
+                        summary_.map_reload_s_max = ts.load_s_max;
+                        summary_.map_reload_wait_s_max = ts.wait_s_max;
+                        const auto& tm = tiles->tiles();
+                        MRPT_LOG_INFO_FMT("frame %zu: map tiles around (%.1f, %.1f) in use: %zu tiles, %zu points",
+                                          r.index, tm.center().x(), tm.center().y(), tm.tilesLoaded(),
+                                          tm.pointsLoaded());
+                    }
                     out.addFrame(r, T, run_.save_localized_map
                                            ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
                                            : kNone);
