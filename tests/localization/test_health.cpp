@@ -51,6 +51,20 @@ TEST(Health, EachCheckAlone) {
     EXPECT_EQ(why, "prediction");
     r.used_imu = false;  // a constant-velocity prediction may be far off rightly
     EXPECT_EQ(h.classify(r), Health::Ok);
+    // A slow drift from the gyro's rotation over [health] drift_window (1 s): above 1.5 deg.
+    r = tracked(0.9);
+    r.used_imu = true;
+    r.imu_drift_deg = 1.4;
+    EXPECT_EQ(h.classify(r), Health::Ok);
+    r.imu_drift_deg = 2.0;
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(why, "drift");
+    r.used_imu = false;  // no gyro to compare with
+    EXPECT_EQ(h.classify(r), Health::Ok);
+    HealthParams off;
+    off.drift_window = 0;
+    r.used_imu = true;
+    EXPECT_EQ(HealthMonitor(off).classify(r), Health::Ok);
 }
 
 TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
@@ -83,6 +97,12 @@ TEST(Health, ParamsValidate) {
     EXPECT_ANY_THROW(p.validate());
     p = HealthParams{};
     p.weak_gamma = 1.5;
+    EXPECT_ANY_THROW(p.validate());
+    p = HealthParams{};
+    p.drift_window = -1;
+    EXPECT_ANY_THROW(p.validate());
+    p = HealthParams{};
+    p.max_drift_deg = 0;
     EXPECT_ANY_THROW(p.validate());
 }
 

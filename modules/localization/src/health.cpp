@@ -27,6 +27,8 @@ void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
     MRPT_LOAD_CONFIG_VAR(settled_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_pred_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_pred_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(drift_window, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_drift_deg, double, c, s);
 }
 
 void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -39,6 +41,8 @@ void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(settled_deg, "[deg] ...or a last rotation update above");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_xyz, "[m] IMU prediction vs solved position farther: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_pred_deg, "[deg] IMU prediction vs solved rotation farther: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(drift_window, "[s] window of the gyro drift check (0 = off)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_drift_deg, "[deg] solved vs gyro-carried rotation over the window farther: degraded");
 }
 
 void HealthParams::validate() const {
@@ -57,6 +61,8 @@ void HealthParams::validate() const {
         throw ConfigError("[health] settled_xyz and settled_deg must be > 0");
     if (!(max_pred_xyz > 0)) throw ConfigError("[health] max_pred_xyz must be > 0");
     if (!(max_pred_deg > 0)) throw ConfigError("[health] max_pred_deg must be > 0");
+    if (!(drift_window >= 0 && drift_window <= 10)) throw ConfigError("[health] drift_window must be in [0, 10] s");
+    if (!(max_drift_deg > 0)) throw ConfigError("[health] max_drift_deg must be > 0");
 }
 
 bool HealthMonitor::notConverged(const FrameReport& r) const {
@@ -84,6 +90,7 @@ HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
     c.not_converged = notConverged(r);
     for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p_.weak_gamma;
     c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
+    c.drift = r.used_imu && p_.drift_window > 0 && r.imu_drift_deg > p_.max_drift_deg;
     return c;
 }
 
@@ -108,6 +115,7 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
         if (!weak.empty()) add("weak_" + weak);
         if (c.inliers) add("inliers");
         if (c.prediction) add("prediction");
+        if (c.drift) add("drift");
         if (!why.empty()) h = Health::Degraded;
     }
     if (reason) *reason = why;
@@ -120,7 +128,7 @@ void HealthMonitor::assess(FrameReport& r) {
     // Tracked: the fit itself is sound (weak axes aside, which say nothing about this map's
     // inlier ratio when tracking is right).
     const HealthChecks& c = r.checks;
-    if (!r.diverged && !c.not_converged && !c.badFit() && !c.prediction) {
+    if (!r.diverged && !c.not_converged && !c.badFit() && !c.prediction && !c.drift) {
         tracked_.push_back(r.inlier_ratio);
         while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
     }

@@ -85,6 +85,9 @@ struct FrameReport {
     double inlier_reference = 0;  ///< the run's reference inlier ratio before this frame (0: none yet)
     double pred_dxyz = 0;         ///< [m] solved vs predicted LiDAR position
     double pred_ddeg = 0;         ///< [deg] solved vs predicted LiDAR rotation
+    /// [deg] over the last [health] drift_window seconds of IMU-predicted frames: the solved
+    /// rotation against the one the gyro alone carries from the window's first frame (0: no window)
+    double imu_drift_deg = 0;
     RelocReport reloc;            ///< the relocalization run on this frame, if any
 
     StageTimes ms;

@@ -35,6 +35,7 @@ struct HealthChecks {
     bool not_converged = false;  ///< still moving when the rounds ran out
     std::array<bool, 6> weak{};  ///< gamma below weak_gamma, per axis (x y z roll pitch yaw)
     bool prediction = false;     ///< IMU prediction and solved pose disagree
+    bool drift = false;          ///< the solved rotation drifted from the gyro's over drift_window
     bool unconfirmed = false;    ///< after an unsettled doubt, not yet confirmed by a search
 
     /// The fit is clearly worse than tracking gives on this map.
@@ -58,6 +59,11 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
     double settled_deg = 0.1;           ///< [deg]
     double max_pred_xyz = 0.3;          ///< [m] IMU-predicted vs solved position farther: degraded
     double max_pred_deg = 3.0;          ///< [deg] the same for the rotation
+    /// A slow drift the per-frame prediction check cannot see (a tilt on stairs, doc/health.md):
+    /// the solved rotation against the gyro's over the last drift_window seconds of IMU-predicted
+    /// frames. 0 turns it off.
+    double drift_window = 1.0;          ///< [s]
+    double max_drift_deg = 1.5;         ///< [deg] farther: degraded
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
