@@ -150,3 +150,53 @@ TEST(Relocalization, TrackingParamsLoadSaveValidate) {
     EXPECT_NE(error([](auto& r) { r.track_max_ms = 0; }).find("track_max_ms"), std::string::npos);
     EXPECT_EQ(error([](auto&) {}), "");
 }
+
+// The drift check's chain on hand-made frames at 10 Hz: the gyro says the sensor turns 1 deg
+// per frame about z; the solved poses follow it, then add 0.3 deg of pitch per frame (a slow
+// tilt no single frame's prediction check sees). The drift over the 1 s window grows to about
+// 10 x 0.3 = 3 deg; a frame that did not come from the chain starts it again.
+TEST(Health, DriftAlongTheChainOfImuPredictedFrames) {
+    HealthMonitor h;
+    const auto rot = [](double yaw_deg, double pitch_deg) {
+        SE3d T = SE3d::Identity();
+        T.linear() = (Eigen::AngleAxisd(yaw_deg * M_PI / 180, Vec3d::UnitZ()) *
+                      Eigen::AngleAxisd(pitch_deg * M_PI / 180, Vec3d::UnitY()))
+                         .toRotationMatrix();
+        return T;
+    };
+    SE3d prev = rot(0, 0);
+    double last = 0;
+    for (int k = 0; k <= 30; ++k) {
+        FrameReport r = tracked(0.9);
+        r.t = 0.1 * k;
+        r.used_imu = k > 0;
+        // The gyro's prediction: the last solved pose turned by 1 deg about its z.
+        r.T_map_lidar_pred = prev * rot(1, 0);
+        const double tilt = k <= 15 ? 0.0 : 0.3 * (k - 15);
+        r.T_map_lidar = rot(k, tilt);
+        r.imu_drift_deg = h.imuDrift(r);
+        if (k < 5) {
+            EXPECT_EQ(r.imu_drift_deg, 0.0) << "window not spanned yet, frame " << k;
+        } else if (k <= 15) {
+            EXPECT_NEAR(r.imu_drift_deg, 0.0, 1e-6) << "frame " << k;
+        } else if (k == 30) {
+            EXPECT_NEAR(r.imu_drift_deg, 3.0, 0.2);
+        }
+        h.recordFrame(r, r.used_imu);
+        prev = r.T_map_lidar;
+        last = r.imu_drift_deg;
+    }
+    EXPECT_GT(last, HealthParams{}.max_drift_deg);
+    // A relocalized frame (not chained) starts the chain again: nothing to compare for 0.5 s.
+    FrameReport r = tracked(0.9);
+    r.t = 3.1;
+    r.used_imu = true;
+    r.T_map_lidar_pred = prev * rot(1, 0);
+    r.T_map_lidar = rot(31, 0);
+    h.recordFrame(r, false);
+    FrameReport next = r;
+    next.t = 3.2;
+    next.T_map_lidar_pred = r.T_map_lidar * rot(1, 0);
+    next.T_map_lidar = rot(32, 0);
+    EXPECT_EQ(h.imuDrift(next), 0.0);
+}

@@ -3,7 +3,10 @@
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace superloc::localization {
@@ -132,6 +135,38 @@ void HealthMonitor::assess(FrameReport& r) {
         tracked_.push_back(r.inlier_ratio);
         while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
     }
+}
+
+double HealthMonitor::imuDrift(const FrameReport& rep) const {
+    const double window = p_.drift_window;
+    if (!rep.used_imu || window <= 0 || drift_chain_.empty()) return 0.0;
+    // R_j = R_k * dR_{k+1} * ... * dR_j along the chain; M accumulates the dR from k on.
+    Eigen::Matrix3d M = drift_chain_.back().R.transpose() * rep.T_map_lidar_pred.linear();  // dR_j
+    const Eigen::Matrix3d& Rj = rep.T_map_lidar.linear();
+    double drift = 0;
+    bool spanned = false;
+    for (size_t k = drift_chain_.size(); k-- > 0;) {
+        const DriftSample& s = drift_chain_[k];
+        if (rep.t - s.t > window + 1e-6) break;
+        if (rep.t - s.t >= 0.5 * window) {
+            drift = Eigen::AngleAxisd((s.R * M).transpose() * Rj).angle() * 180.0 / M_PI;
+            spanned = true;
+        }
+        M = s.dR_pred * M;
+    }
+    return spanned ? drift : 0.0;
+}
+
+void HealthMonitor::recordFrame(const FrameReport& rep, bool chained) {
+    const bool stands = rep.health != Health::Lost && !rep.diverged;
+    if (!chained || !stands || drift_chain_.empty()) drift_chain_.clear();
+    if (!stands) return;
+    DriftSample s;
+    s.t = rep.t;
+    s.R = rep.T_map_lidar.linear();
+    if (!drift_chain_.empty()) s.dR_pred = drift_chain_.back().R.transpose() * rep.T_map_lidar_pred.linear();
+    drift_chain_.push_back(s);
+    while (drift_chain_.size() > 2 && rep.t - drift_chain_[1].t > p_.drift_window) drift_chain_.pop_front();
 }
 
 }  // namespace superloc::localization

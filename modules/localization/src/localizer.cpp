@@ -544,7 +544,7 @@ FrameReport Localizer::process(const Scan& scan) {
         // Step 6: report and state update.
         finish(scan, pred, velocity_unknown, rep);
     }
-    rep.imu_drift_deg = requested ? 0.0 : imuDrift(rep);
+    rep.imu_drift_deg = requested ? 0.0 : health_.imuDrift(rep);
     assess(rep);
     // A given start is checked within its uncertainty (localizer_relocalize.cpp).
     if (first && !requested && initial_T_map_lidar_ && search_ && rep.health != Health::Lost)

@@ -407,42 +407,10 @@ void Localizer::recoverIfLost(const Scan& scan, const Prediction& pred, bool may
     }
 }
 
-double Localizer::imuDrift(const FrameReport& rep) const {
-    const double window = params_.health.drift_window;
-    if (!rep.used_imu || window <= 0 || drift_history_.empty()) return 0.0;
-    // R_j = R_k * dR_{k+1} * ... * dR_j along the chain; M accumulates the dR from k on.
-    Mat3d M = drift_history_.back().R.transpose() * rep.T_map_lidar_pred.linear();  // dR_j
-    const Mat3d& Rj = rep.T_map_lidar.linear();
-    double drift = 0;
-    bool spanned = false;
-    for (size_t k = drift_history_.size(); k-- > 0;) {
-        const DriftSample& s = drift_history_[k];
-        if (rep.t - s.t > window + 1e-6) break;
-        if (rep.t - s.t >= 0.5 * window) {
-            drift = Eigen::AngleAxisd((s.R * M).transpose() * Rj).angle() / kDeg;
-            spanned = true;
-        }
-        M = s.dR_pred * M;
-    }
-    return spanned ? drift : 0.0;
-}
-
 void Localizer::updateTrackingState(const Scan& scan, const Prediction& pred, const FrameReport& rep) {
-    // The drift chain goes on through frames the IMU predicted from the one before, solved by
-    // the frame's own registration; anything else (a relocalized, lost or restarted frame, no
-    // IMU) starts it again from this frame.
-    const bool chained = pred.used_imu && !rep.recovered && !rep.diverged && rep.health != Health::Lost &&
-                         !drift_history_.empty() && !restart_;
-    if (!chained) drift_history_.clear();
-    if (rep.health != Health::Lost && !rep.diverged) {
-        DriftSample s;
-        s.t = scan.t;
-        s.R = rep.T_map_lidar.linear();
-        if (chained) s.dR_pred = drift_history_.back().R.transpose() * rep.T_map_lidar_pred.linear();
-        drift_history_.push_back(s);
-        while (drift_history_.size() > 2 && scan.t - drift_history_[1].t > params_.health.drift_window)
-            drift_history_.pop_front();
-    }
+    // The drift check's chain goes on through frames the IMU predicted from the one before,
+    // solved by the frame's own registration.
+    health_.recordFrame(rep, pred.used_imu && !rep.recovered && !restart_);
     prev_verified_ = rep.health == Health::Ok || rep.recovered;
     if (rep.health == Health::Ok)
         imu_chain_ = true;

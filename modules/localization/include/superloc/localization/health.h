@@ -16,6 +16,8 @@
 
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <Eigen/Core>
+
 #include <array>
 #include <deque>
 #include <string>
@@ -86,10 +88,27 @@ class HealthMonitor {
     /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
     bool notConverged(const FrameReport& r) const;
 
+    /// The drift check's measure for a solved frame (FrameReport::imu_drift_deg): [deg] its
+    /// rotation against the one the gyro carries along the chain of recorded frames over the
+    /// last drift_window; 0 when the chain does not span half of it or the frame has no IMU.
+    double imuDrift(const FrameReport& rep) const;
+    /// After a frame's final pose: extends the chain with it when `chained` (the IMU predicted it
+    /// from the last recorded frame and its own registration solved it), else starts the chain
+    /// again from it; a lost or diverged frame ends the chain.
+    void recordFrame(const FrameReport& rep, bool chained);
+
    private:
     HealthChecks check(const FrameReport& r, double reference) const;
     HealthParams p_;
     std::deque<double> tracked_;  ///< inlier ratios of the last tracked frames
+    /// The drift check's chain, oldest first: each frame's solved R_map_lidar and the rotation
+    /// the IMU predicted from the frame before.
+    struct DriftSample {
+        double t = 0;
+        Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+        Eigen::Matrix3d dR_pred = Eigen::Matrix3d::Identity();
+    };
+    std::deque<DriftSample> drift_chain_;
 };
 
 }  // namespace superloc::localization

@@ -26,7 +26,6 @@
 #include <superloc/reloc/global_search.h>
 #include <superloc/risk/alignment_risk.h>
 
-#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -219,9 +218,6 @@ class Localizer : public mrpt::system::COutputLogger {
     std::optional<Mat3d> gravityFromImu(double t) const;
     /// The health checks on the solved frame (its pose against the prediction first).
     void assess(FrameReport& rep);
-    /// [deg] rep's solved rotation against the gyro's carried over drift_history_ (0 when the
-    /// history does not span half of [health] drift_window).
-    double imuDrift(const FrameReport& rep) const;
     /// Step 7 (doc/health.md): a frame lost for a while, or in doubt, searches the map (when
     /// `may_search`), and the doubt carried to the next frames is updated.
     void recoverIfLost(const Scan& scan, const Prediction& pred, bool may_search, FrameReport& rep);
@@ -268,14 +264,6 @@ class Localizer : public mrpt::system::COutputLogger {
     int track_dropped_ = 0, track_over_budget_ = 0;  ///< ...candidates it dropped, left out
     bool track_left_out_ = false;     ///< a hypothesis of this frame's search found the set full
     int track_judged_ = 0;            ///< candidates of this set dropped (lost, bad fit, ruled out)
-    /// The gyro drift check's chain: frames since an anchor, each predicted by the IMU from the
-    /// one before (rotation dR_pred from the previous frame's pose), oldest first.
-    struct DriftSample {
-        double t = 0;
-        Mat3d R = Mat3d::Identity();        ///< solved R_map_lidar
-        Mat3d dR_pred = Mat3d::Identity();  ///< IMU-predicted rotation from the previous sample
-    };
-    std::deque<DriftSample> drift_history_;
     bool restart_ = false;     ///< the last frame was relocalized: velocity unknown
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;
