@@ -267,6 +267,13 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     // an error (doc/localizer.md "Faults"), so that every output says what was done.
     const auto finish = [&](const std::string& error) {
         summary_.rawlog = reader.stats();
+        if (tiles) {
+            const auto& ts = tiles->stats();
+            summary_.map_reloads = ts.reloads;
+            summary_.map_points_max = ts.points_max;
+            summary_.map_reload_s_max = ts.load_s_max;
+            summary_.map_reload_wait_s_max = ts.wait_s_max;
+        }
         summary_.status = error.empty() ? "ok" : "failed";
         summary_.error = error;
         const eval::TimingStats wall = eval::timingStats(ms);
@@ -312,11 +319,6 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
                     if (tiles && r.health != localization::Health::Lost &&
                         tiles->update(r.T_map_lidar.translation(), loc)) {
-                        const auto& ts = tiles->stats();
-                        summary_.map_reloads = ts.reloads;
-                        summary_.map_points_max = ts.points_max;
-                        summary_.map_reload_s_max = ts.load_s_max;
-                        summary_.map_reload_wait_s_max = ts.wait_s_max;
                         const auto& tm = tiles->tiles();
                         MRPT_LOG_INFO_FMT("frame %zu: map tiles around (%.1f, %.1f) in use: %zu tiles, %zu points",
                                           r.index, tm.center().x(), tm.center().y(), tm.tilesLoaded(),

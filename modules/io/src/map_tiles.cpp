@@ -1,4 +1,5 @@
 // Tiled prior maps on disk: tiles.csv and one binary PCD per non-empty tile.
+#include <superloc/core/config.h>
 #include <superloc/core/voxel.h>
 #include <superloc/io/map_tiles.h>
 #include <superloc/io/point_cloud_io.h>
@@ -89,14 +90,7 @@ MapTileIndex readMapTileIndex(const std::string& dir) {
         for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
         if (!have_size) {
             if (f.size() != 2 || f[0] != "tile_size") fail("expected `tile_size,METRES`");
-            size_t used = 0;
-            try {
-                index.tile_size = std::stod(f[1], &used);
-            } catch (const std::exception&) {
-                used = 0;
-            }
-            if (used != f[1].size() || !std::isfinite(index.tile_size) || index.tile_size <= 0)
-                fail("tile_size must be a number > 0");
+            if (!parseDouble(f[1], index.tile_size) || index.tile_size <= 0) fail("tile_size must be a number > 0");
             have_size = true;
             continue;
         }

@@ -23,7 +23,6 @@ std::shared_ptr<const map::PriorMap> MapTileFollower::start(const Vec3d& p) {
 bool MapTileFollower::update(const Vec3d& p, Localizer& loc) {
     const double d = (p - center_).head<2>().norm();
     if (!next_.valid() && d > 0.5 * map_params_.tile_reload) {
-        next_center_ = p;
         // The thread reads tiles_ and the copied parameters only; nothing else touches tiles_
         // until get().
         next_ = std::async(std::launch::async, [this, p, params = params_] {
@@ -35,7 +34,7 @@ bool MapTileFollower::update(const Vec3d& p, Localizer& loc) {
     if (!next_.valid() || d <= map_params_.tile_reload) return false;
     mrpt::system::CTicTac wait;
     PreparedMap next = next_.get();
-    center_ = next_center_;
+    center_ = tiles_.center();
     if (!next.map) return false;  // no tile there: keep the map in use (tried again further on)
     const size_t points = next.map->size();
     loc.setMap(std::move(next));

@@ -43,8 +43,7 @@ class MapTileFollower {
     map::TiledMap tiles_;
     map::MapParams map_params_;
     LocalizerParams params_;
-    Vec3d center_ = Vec3d::Zero();       ///< centre of the tiles in use
-    Vec3d next_center_ = Vec3d::Zero();  ///< centre of the tiles loading
+    Vec3d center_ = Vec3d::Zero();  ///< centre of the tiles in use (tiles_.center(): of the last load)
     std::future<PreparedMap> next_;
     Stats stats_;
 };
