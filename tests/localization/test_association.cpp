@@ -72,4 +72,12 @@ TEST(RunOutputs, CsvLineMatchesHeader) {
     EXPECT_EQ(count(line), count(framesCsvHeader()));
     EXPECT_EQ(line.rfind("12.500000000,1.000000,2.000000,3.000000,", 0), 0u) << line;
     EXPECT_NE(line.find(",xyaw,"), std::string::npos);
+    // The IMU biases are the last six columns: accelerometer, then gyroscope.
+    r.bias.acc = Vec3d(0.0166, -0.0237, 0.5);
+    r.bias.gyro = Vec3d(1e-4, 0, -2.5e-3);
+    const std::string with_bias = framesCsvLine(r, SE3d::Identity());
+    const std::string header = framesCsvHeader();
+    EXPECT_EQ(header.substr(header.size() - 47), "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz");
+    EXPECT_EQ(with_bias.substr(with_bias.size() - 52),
+              "0.01660,-0.02370,0.50000,0.000100,0.000000,-0.002500") << with_bias;
 }

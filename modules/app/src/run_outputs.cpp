@@ -24,7 +24,8 @@ std::string framesCsvHeader() {
            "trans_eig_1,trans_eig_2,trans_eig_3,weak_t_x,weak_t_y,weak_t_z,recovered,"
            "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg,"
            "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg,"
-           "reloc_candidates,reloc_evidence_ratio,flags_labels1,flags_labels2,flags_eigen,start,imu_drift_deg";
+           "reloc_candidates,reloc_evidence_ratio,flags_labels1,flags_labels2,flags_eigen,start,imu_drift_deg,"
+           "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz";
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -83,6 +84,8 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     s += ',' + r.flags_labels1 + ',' + r.flags_labels2 + ',' + r.flags_eigen;
     s += r.motion_from_scan ? ",scan" : r.coarse_start ? ",wide" : ",tracked";
     add("%.3f", r.imu_drift_deg);
+    for (int k = 0; k < 3; ++k) add("%.5f", r.bias.acc[k]);
+    for (int k = 0; k < 3; ++k) add("%.6f", r.bias.gyro[k]);
     return s;
 }
 
