@@ -1,10 +1,14 @@
 // Association with a PriorMap (plane / line / point by the map's local shape) and the
 // frames.csv writer's shape.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/localization/association.h>
+#include <superloc/localization/localization_params.h>
 #include <superloc/app/run_outputs.h>
 
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -60,6 +64,62 @@ TEST(Association, FloorIsPlanePoleIsLine) {
     // Moved 20 cm up, the floor features are no longer inliers at 5 cm.
     const SE3d T_up = makePoseRPY(0.02, -0.01, 1.7, 0, 0, 0.3);
     EXPECT_LT(inlierStats(corr, pts.size(), T_up, 0.05).inliers, 25u);
+}
+
+// A stair step inside one 0.5 m voxel smears its plane: the voxel association's plane there is
+// tilted and thick, the nearest map point's neighbourhood is the tread itself.
+// voxel_nearest_above hands such features (and those with no voxel) to the kd-tree.
+TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
+    PointCloud c;
+    // Floor z = 0 for x < 0.25 m, a 0.17 m step up beyond (2 x 2 m, 2.5 cm grid), and the
+    // step's riser. The step sits in the middle of the voxels [0, 0.5) along x.
+    for (int i = 0; i < 80; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
+            c.points.emplace_back(x, y, x < 0.25f ? 0.1f : 0.27f);
+        }
+    for (int k = 0; k < 7; ++k)
+        for (int j = 0; j < 80; ++j) c.points.emplace_back(0.25f, -1.0f + 0.025f * j + 0.0125f, 0.1f + 0.025f * k);
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const map::PriorMap m(c, mp, Vec3f(0, 0, 2));
+    // One feature on the lower tread inside the stepped voxel, one on the flat floor.
+    const std::vector<Vec3d> pts = {Vec3d(0.15, 0.2, 0.1), Vec3d(-0.3, 0.2, 0.1)};
+    AssociationParams ap;
+    ap.voxel = true;
+    ap.level = 0;
+    std::vector<Correspondence> with_voxels, hybrid;
+    AssociationStats st;
+    associate(pts, SE3d::Identity(), m, ap, with_voxels, st);
+    ASSERT_EQ(with_voxels.size(), 2u);
+    // The stepped voxel's plane: its normal tilts toward x and the tread point is off it.
+    EXPECT_GT(std::abs(with_voxels[0].n.x()), 0.1);
+    EXPECT_GT(fusion::correspondenceError(with_voxels[0], SE3d::Identity()), 0.02);
+    ap.nearest_above_thickness = 0.03;
+    associate(pts, SE3d::Identity(), m, ap, hybrid, st);
+    ASSERT_EQ(hybrid.size(), 2u);
+    // Handed to the kd-tree: the tread's own plane, the point on it.
+    EXPECT_NEAR(std::abs(hybrid[0].n.z()), 1.0, 1e-3);
+    EXPECT_LT(fusion::correspondenceError(hybrid[0], SE3d::Identity()), 1e-3);
+    EXPECT_NEAR(hybrid[0].q.z(), 0.1, 1e-6);  // a map point, not a voxel's centroid
+    // The flat floor's voxel is thin: still the voxel's plane, through its centroid.
+    EXPECT_NEAR(hybrid[1].q.x(), with_voxels[1].q.x(), 1e-9);
+    EXPECT_NEAR(hybrid[1].n.dot(with_voxels[1].n), with_voxels[1].n.squaredNorm(), 1e-9);
+}
+
+TEST(Association, VoxelNearestAboveIsReadAndChecked) {
+    mrpt::config::CConfigFileMemory ini;
+    ini.write("localization", "association", "voxel");
+    ini.write("localization", "voxel_nearest_above", 0.03);
+    LocalizationParams p;
+    p.loadFromConfigFile(ini, "localization");
+    EXPECT_DOUBLE_EQ(p.voxel_nearest_above, 0.03);
+    EXPECT_NO_THROW(p.validate());
+    p.voxel_nearest_above = -0.01;
+    EXPECT_THROW(p.validate(), ConfigError);
+    p.voxel_nearest_above = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(p.validate(), ConfigError);
+    EXPECT_DOUBLE_EQ(LocalizationParams{}.voxel_nearest_above, 0.0);  // off by default
 }
 
 TEST(RunOutputs, CsvLineMatchesHeader) {

@@ -10,57 +10,67 @@ namespace superloc::localization {
 
 
 namespace {
+/// The correspondence of the feature p_body, at x in the map frame, with its nearest map point
+/// and that point's neighbourhood geometry; false when there is none.
+bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::PriorMap& map,
+                           const AssociationParams& p, map::Neighbors& nb, Correspondence& c,
+                           AssociationStats& stats) {
+    const auto [j, d2] = map.nearest(x.cast<float>());
+    if (d2 > static_cast<float>(p.max_dist * p.max_dist)) {
+        ++stats.too_far;
+        return false;
+    }
+    const map::PointGeometry& g = map.geometry(j);
+    c = Correspondence{};
+    c.p = p_body;
+    c.q = map.point(j).cast<double>();
+    c.type = features::classifyShape(g.planarity, g.linearity, p.plane_max_thickness,
+                                     p.line_min_linearity);
+    if (c.type == FeatureType::Plane) {
+        c.n = g.normal.cast<double>();
+        if (c.n.squaredNorm() < 0.5) return false;
+        c.weight = std::max(0.0, 1.0 - g.fit_residual / p.max_fit_residual);
+        if (c.weight <= 0) return false;
+        ++stats.plane;
+    } else if (c.type == FeatureType::Line) {
+        // Line direction: principal axis of the map neighbourhood.
+        map.knn(x.cast<float>(), p.line_knn, nb);
+        if (nb.indices.size() < 3) return false;
+        Vec3d mean = Vec3d::Zero();
+        for (uint32_t k : nb.indices) mean += map.point(k).cast<double>();
+        mean /= static_cast<double>(nb.indices.size());
+        Mat3d C = Mat3d::Zero();
+        for (uint32_t k : nb.indices) {
+            const Vec3d d = map.point(k).cast<double>() - mean;
+            C += d * d.transpose();
+        }
+        Eigen::SelfAdjointEigenSolver<Mat3d> es;
+        es.computeDirect(C);
+        c.n = es.eigenvectors().col(2).normalized();
+        c.q = mean;
+        c.weight = g.linearity;
+        if (c.weight <= 0) return false;
+        ++stats.line;
+    } else {
+        c.weight = p.point_weight;
+        if (c.weight <= 0) return false;
+        ++stats.point;
+    }
+    return true;
+}
+
 void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                       const map::PriorMap& map, const AssociationParams& p,
                       std::vector<Correspondence>& out, AssociationStats& stats,
                       std::vector<uint32_t>* feature_of) {
     // Nearest map point (kd-tree) and its precomputed neighbourhood geometry.
     if (map.size() == 0) return;
-    const float max_d2 = static_cast<float>(p.max_dist * p.max_dist);
     const Mat3d R = T_map_body.linear();
     const Vec3d t = T_map_body.translation();
     map::Neighbors nb;
+    Correspondence c;
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
-        const Vec3d x = R * pts_body[i] + t;
-        const auto [j, d2] = map.nearest(x.cast<float>());
-        if (d2 > max_d2) {
-            ++stats.too_far;
-            continue;
-        }
-        const map::PointGeometry& g = map.geometry(j);
-        Correspondence c;
-        c.p = pts_body[i];
-        c.q = map.point(j).cast<double>();
-        c.type = features::classifyShape(g.planarity, g.linearity, p.plane_max_thickness,
-                                         p.line_min_linearity);
-        if (c.type == FeatureType::Plane) {
-            c.n = g.normal.cast<double>();
-            if (c.n.squaredNorm() < 0.5) continue;
-            c.weight = std::max(0.0, 1.0 - g.fit_residual / p.max_fit_residual);
-            ++stats.plane;
-        } else if (c.type == FeatureType::Line) {
-            // Line direction: principal axis of the map neighbourhood.
-            map.knn(x.cast<float>(), p.line_knn, nb);
-            if (nb.indices.size() < 3) continue;
-            Vec3d mean = Vec3d::Zero();
-            for (uint32_t k : nb.indices) mean += map.point(k).cast<double>();
-            mean /= static_cast<double>(nb.indices.size());
-            Mat3d C = Mat3d::Zero();
-            for (uint32_t k : nb.indices) {
-                const Vec3d d = map.point(k).cast<double>() - mean;
-                C += d * d.transpose();
-            }
-            Eigen::SelfAdjointEigenSolver<Mat3d> es;
-            es.computeDirect(C);
-            c.n = es.eigenvectors().col(2).normalized();
-            c.q = mean;
-            c.weight = g.linearity;
-            ++stats.line;
-        } else {
-            c.weight = p.point_weight;
-            ++stats.point;
-        }
-        if (c.weight <= 0) continue;
+        if (!nearestCorrespondence(pts_body[i], R * pts_body[i] + t, map, p, nb, c, stats)) continue;
         out.push_back(c);
         if (feature_of) feature_of->push_back(i);
     }
@@ -77,9 +87,20 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     const double fit_ref = std::max(p.max_fit_residual, 0.1 * vm.levelSize(level));
     const Mat3d R = T_map_body.linear();
     const Vec3d t = T_map_body.translation();
+    // At the finest level, a voxel whose plane smears the surface (a step, an edge) hands its
+    // feature to the kd-tree (AssociationParams::nearest_above_thickness).
+    const bool to_nearest = level == 0 && p.nearest_above_thickness > 0 && map.size() > 0;
+    map::Neighbors nb;
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
         const Vec3d x = R * pts_body[i] + t;
         const map::VoxelStats* v = vm.find(level, x.cast<float>());
+        if (to_nearest && (!v || v->thickness > p.nearest_above_thickness)) {
+            Correspondence c;
+            if (!nearestCorrespondence(pts_body[i], x, map, p, nb, c, stats)) continue;
+            out.push_back(c);
+            if (feature_of) feature_of->push_back(i);
+            continue;
+        }
         if (!v) {
             ++stats.too_far;
             continue;

@@ -2,6 +2,8 @@
 #include <superloc/core/config.h>
 #include <superloc/localization/localization_params.h>
 
+#include <cmath>
+
 namespace superloc::localization {
 
 Method methodFromString(const std::string& s) {
@@ -32,6 +34,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(association, string, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist_init, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(voxel_nearest_above, double, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
@@ -58,6 +61,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map point (nearest) / voxel plane (voxel, finest level)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] nearest: the same on a wide frame's first rounds");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_nearest_above, "[m] voxel: features in thicker finest voxels (or none) use the kd-tree (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "most association + solve rounds per tracked frame");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
@@ -88,6 +92,8 @@ void LocalizationParams::validate() const {
     positive(max_corr_dist_init, "max_corr_dist_init");
     if (association != "nearest" && association != "voxel")
         throw ConfigError("[localization] association must be nearest or voxel, not '" + association + "'");
+    if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))
+        throw ConfigError("[localization] voxel_nearest_above must be >= 0");
     if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");
     if (rounds_init < 1) throw ConfigError("[localization] rounds_init must be >= 1");
     positive(max_cv_gap, "max_cv_gap");

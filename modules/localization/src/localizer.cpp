@@ -46,6 +46,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       g_map_(0, 0, -params.imu.gravity) {
     assoc_.max_dist = params.loc.max_corr_dist;
     assoc_.voxel = params.loc.association == "voxel";
+    assoc_.nearest_above_thickness = assoc_.voxel ? params.loc.voxel_nearest_above : 0.0;
     assoc_.plane_max_thickness = params.features.plane_max_thickness;
     assoc_.line_min_linearity = params.features.line_min_linearity;
     assoc_.max_fit_residual = params.loc.max_fit_residual;

@@ -15,6 +15,9 @@ namespace superloc::localization {
 struct AssociationParams {
     bool voxel = false;                ///< voxel map association instead of nearest map point
     int level = 0;                     ///< voxel map level (0 = finest), voxel association only
+    /// [m] voxel, finest level: a feature whose voxel is thicker than this, or that has none, is
+    /// associated as `nearest` does (kd-tree); 0: never
+    double nearest_above_thickness = 0;
     double max_dist = 1.0;             ///< [m] plane / line / centroid farther: no correspondence
     double plane_max_thickness = 0.1;  ///< see features::classifyShape
     double line_min_linearity = 0.7;

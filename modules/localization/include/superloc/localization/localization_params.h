@@ -25,6 +25,10 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// centroid at the finest level, doubled per coarser level (voxel)
     double max_corr_dist = 1.0;
     double max_corr_dist_init = 3.0;   ///< [m] nearest: the same, for the first rounds of a wide frame
+    /// [m] voxel: a feature whose finest-level voxel is thicker than this (a step, an edge, a
+    /// corner: a plane that smears the surface), or that has no finest-level voxel, is
+    /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
+    double voxel_nearest_above = 0.0;
     /// most association + solve rounds of a tracked frame (it stops earlier when settled)
     int rounds = 4;
     int rounds_init = 40;              ///< the same for a frame whose velocity is unknown
