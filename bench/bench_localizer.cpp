@@ -4,7 +4,8 @@
 // features, association, risk, solve), the odd scans cycled from the GT pose at the first odd
 // scan, each pass in a fresh copy of the prior map (cold, as one run of superloc-localize);
 // method=icp with the kd-tree association (default), with the voxel map
-// (association=voxel) and method=ndt in the same run. Counter ate_m: RMSE of the frames timed. Custom counters give the median
+// (association=voxel), with the hybrid (voxels, the kd-tree in voxels thicker than 3 cm:
+// voxel_nearest_above) and method=ndt in the same run. Counter ate_m: RMSE of the frames timed. Custom counters give the median
 // and p95 per frame, the median per stage and of the first frames (first_ms: wide, with the
 // start check of doc/health.md) [ms]. Not a test: nothing here asserts timings.
 // BM_FrameCampus*: campus-ouster the same way (map from the even scans at 0.1 m, the 26 odd
@@ -183,6 +184,13 @@ void BM_FrameIcpNoStartCheck(benchmark::State& s) {
     BM_Frame(s, p, kitti());
 }
 void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams(), kitti()); }
+/// The hybrid of doc/map.md: voxels, the kd-tree for features in finest voxels thicker than 3 cm.
+void BM_FrameIcpHybrid(benchmark::State& s) {
+    LocalizerParams p = kittiParams("icp");
+    p.loc.association = "voxel";
+    p.loc.voxel_nearest_above = 0.03;
+    BM_Frame(s, p, kitti());
+}
 void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti()); }
 /// The default settings with the data set's fact (the scans come undistorted: deskew off).
 LocalizerParams campusParams(bool motion_from_last_scan) {
@@ -194,6 +202,12 @@ LocalizerParams campusParams(bool motion_from_last_scan) {
 }
 void BM_FrameCampus(benchmark::State& s) { BM_Frame(s, campusParams(true), campus()); }
 void BM_FrameCampusVelocityAssumed(benchmark::State& s) { BM_Frame(s, campusParams(false), campus()); }
+void BM_FrameCampusHybrid(benchmark::State& s) {
+    LocalizerParams p = campusParams(true);
+    p.loc.association = "voxel";
+    p.loc.voxel_nearest_above = 0.03;
+    BM_Frame(s, p, campus());
+}
 
 /// One recovered frame (no IMU; the relocalization of doc/health.md): scans 0 and 1 tracked, then
 /// scan 2 with its points turned by 45 deg about the sensor's z axis, as if the car had turned
@@ -308,9 +322,11 @@ BENCHMARK(BM_DeskewSweep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpNoStartCheck)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpVoxel)->Unit(benchmark::kMillisecond)->Iterations(160);
+BENCHMARK(BM_FrameIcpHybrid)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
 BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
+BENCHMARK(BM_FrameCampusHybrid)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_Association)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
