@@ -30,7 +30,6 @@ bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::Prior
         c.n = g.normal.cast<double>();
         if (c.n.squaredNorm() < 0.5) return false;
         c.weight = std::max(0.0, 1.0 - g.fit_residual / p.max_fit_residual);
-        if (c.weight <= 0) return false;
         ++stats.plane;
     } else if (c.type == FeatureType::Line) {
         // Line direction: principal axis of the map neighbourhood.
@@ -49,14 +48,12 @@ bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::Prior
         c.n = es.eigenvectors().col(2).normalized();
         c.q = mean;
         c.weight = g.linearity;
-        if (c.weight <= 0) return false;
         ++stats.line;
     } else {
         c.weight = p.point_weight;
-        if (c.weight <= 0) return false;
         ++stats.point;
     }
-    return true;
+    return c.weight > 0;  // a weight-0 correspondence is counted by its type, not kept
 }
 
 void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
