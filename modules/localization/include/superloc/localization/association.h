@@ -2,7 +2,9 @@
 //  - nearest (default): the nearest map point (kd-tree) and its precomputed neighbourhood
 //    geometry decide a point-to-plane, -line or -point correspondence with a fit weight;
 //  - voxel: the registration voxel map's voxel that contains the feature (one hash probe, at the
-//    level asked for) and that voxel's point statistics decide it (doc/map.md).
+//    level asked for) and that voxel's point statistics decide it (doc/map.md); at the finest
+//    level, a feature whose voxel is thicker than nearest_above_thickness (or missing) is
+//    associated as by `nearest` (the hybrid of doc/map.md).
 #pragma once
 
 #include <superloc/fusion/scan_factor.h>
