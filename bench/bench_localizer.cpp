@@ -184,13 +184,14 @@ void BM_FrameIcpNoStartCheck(benchmark::State& s) {
     BM_Frame(s, p, kitti());
 }
 void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams(), kitti()); }
-/// The hybrid of doc/map.md: voxels, the kd-tree for features in finest voxels thicker than 3 cm.
-void BM_FrameIcpHybrid(benchmark::State& s) {
-    LocalizerParams p = kittiParams("icp");
+/// `p` with the hybrid of doc/map.md: voxels, the kd-tree for features in finest voxels thicker
+/// than 3 cm.
+LocalizerParams hybrid(LocalizerParams p) {
     p.loc.association = "voxel";
     p.loc.voxel_nearest_above = 0.03;
-    BM_Frame(s, p, kitti());
+    return p;
 }
+void BM_FrameIcpHybrid(benchmark::State& s) { BM_Frame(s, hybrid(kittiParams("icp")), kitti()); }
 void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti()); }
 /// The default settings with the data set's fact (the scans come undistorted: deskew off).
 LocalizerParams campusParams(bool motion_from_last_scan) {
@@ -202,12 +203,7 @@ LocalizerParams campusParams(bool motion_from_last_scan) {
 }
 void BM_FrameCampus(benchmark::State& s) { BM_Frame(s, campusParams(true), campus()); }
 void BM_FrameCampusVelocityAssumed(benchmark::State& s) { BM_Frame(s, campusParams(false), campus()); }
-void BM_FrameCampusHybrid(benchmark::State& s) {
-    LocalizerParams p = campusParams(true);
-    p.loc.association = "voxel";
-    p.loc.voxel_nearest_above = 0.03;
-    BM_Frame(s, p, campus());
-}
+void BM_FrameCampusHybrid(benchmark::State& s) { BM_Frame(s, hybrid(campusParams(true)), campus()); }
 
 /// One recovered frame (no IMU; the relocalization of doc/health.md): scans 0 and 1 tracked, then
 /// scan 2 with its points turned by 45 deg about the sensor's z axis, as if the car had turned

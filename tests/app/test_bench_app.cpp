@@ -119,11 +119,15 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     // A second run reuses the simulated data (no sim tool needed any more).
     fs::remove(tools + "/superloc-sim");
     BenchApp again;
-    again.initialize(
-        {d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--methods", "good"});
+    again.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--methods", "good",
+                      "--localize-set", "localization.association=voxel"});
     std::ostringstream log2;
     EXPECT_EQ(again.run(log2), 0) << log2.str();
     EXPECT_EQ(again.runs.size(), 1u);
+    // --localize-set reaches the localize run, and results.md's command line records it.
+    EXPECT_NE(log2.str().find("--set localization.association=voxel"), std::string::npos) << log2.str();
+    EXPECT_NE(slurp(d + "/out/results.md").find("--localize-set localization.association=voxel"),
+              std::string::npos);
 }
 
 TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
@@ -145,4 +149,8 @@ TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
     EXPECT_THROW(BenchApp().initialize({"--out", d}), ConfigError);        // no SUITE.ini
     EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--sequences", "zzz"}),
                  std::invalid_argument);
+    for (const char* bad : {"association=voxel", "localization.association", ".key=1", "section.=1"})
+        EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--localize-set", bad}),
+                     std::invalid_argument)
+            << bad;
 }

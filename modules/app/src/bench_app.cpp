@@ -36,6 +36,7 @@ namespace {
 
 struct BenchFlags {
     std::string suite_path, only_seq, only_meth;
+    std::vector<std::string> localize_sets;
 };
 
 void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
@@ -55,6 +56,10 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.add_option("--sequences", f.only_seq, "run only these sequences of the suite")->type_name("\"a b\"");
     cli.add_option("--methods", f.only_meth, "run only these methods of the suite")->type_name("\"m1 m2\"");
     cli.add_flag("--fresh", app.fresh, "regenerate simulated/imported data even if present");
+    cli.add_option("--localize-set", f.localize_sets,
+                   "one more --set for every superloc-localize run (after the suite's [suite] keys), e.g.\n"
+                   "--localize-set localization.association=voxel (repeatable)")
+        ->type_name("SECTION.KEY=VALUE");
 }
 
 }  // namespace
@@ -92,6 +97,15 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         suite.sequences = keep;
     }
     if (meth_given) suite.methods = splitWords(only_meth);
+    // A variant of a suite (another association, another key) without a copy of its INI: the
+    // extra keys follow the suite's [suite] localize_set (a sequence's own localize_set still
+    // comes last); the command line in results.md records them.
+    for (const auto& kv : f.localize_sets) {
+        const size_t eq = kv.find('='), dot = kv.find('.');
+        if (dot == std::string::npos || eq == std::string::npos || dot > eq || dot == 0 || eq == dot + 1)
+            throw std::invalid_argument("--localize-set: '" + kv + "' is not SECTION.KEY=VALUE");
+        suite.localize_sets.push_back(kv);
+    }
     command_line_ = "superloc-bench";
     for (const auto& a : args) command_line_ += " " + a;
 }

@@ -10,6 +10,11 @@ namespace superloc::localization {
 
 
 namespace {
+void keep(const Correspondence& c, uint32_t i, std::vector<Correspondence>& out, std::vector<uint32_t>* feature_of) {
+    out.push_back(c);
+    if (feature_of) feature_of->push_back(i);
+}
+
 /// The correspondence of the feature p_body, at x in the map frame, with its nearest map point
 /// and that point's neighbourhood geometry; false when there is none.
 bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::PriorMap& map,
@@ -67,9 +72,7 @@ void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body
     map::Neighbors nb;
     Correspondence c;
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
-        if (!nearestCorrespondence(pts_body[i], R * pts_body[i] + t, map, p, nb, c, stats)) continue;
-        out.push_back(c);
-        if (feature_of) feature_of->push_back(i);
+        if (nearestCorrespondence(pts_body[i], R * pts_body[i] + t, map, p, nb, c, stats)) keep(c, i, out, feature_of);
     }
 }
 
@@ -93,9 +96,7 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         const map::VoxelStats* v = vm.find(level, x.cast<float>());
         if (to_nearest && (!v || v->thickness > p.nearest_above_thickness)) {
             Correspondence c;
-            if (!nearestCorrespondence(pts_body[i], x, map, p, nb, c, stats)) continue;
-            out.push_back(c);
-            if (feature_of) feature_of->push_back(i);
+            if (nearestCorrespondence(pts_body[i], x, map, p, nb, c, stats)) keep(c, i, out, feature_of);
             continue;
         }
         if (!v) {
@@ -131,8 +132,7 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         if (c.type == FeatureType::Plane) ++stats.plane;
         else if (c.type == FeatureType::Line) ++stats.line;
         else ++stats.point;
-        out.push_back(c);
-        if (feature_of) feature_of->push_back(i);
+        keep(c, i, out, feature_of);
     }
 }
 
