@@ -7,7 +7,9 @@
 #include <superloc/features/features_params.h>
 #include <superloc/features/voxel_selector.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <set>
 
@@ -78,6 +80,23 @@ TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
                      int(std::floor(big[i].z() / 2))});
     EXPECT_EQ(kept.size(), out.size());
     EXPECT_EQ(kept, cells);
+    // Tens of thousands of voxels (the table starts at 4096 slots and grows while it fills):
+    // still the first point of every voxel, in order.
+    const auto cell = [](const Vec3f& p, float v) {
+        return std::tuple<int, int, int>{int(std::floor(p.x() / v)), int(std::floor(p.y() / v)),
+                                         int(std::floor(p.z() / v))};
+    };
+    sel.select(big, idx, 0.25f, out);
+    std::map<std::tuple<int, int, int>, uint32_t> first;
+    for (uint32_t i = 0; i < big.size(); ++i) first.emplace(cell(big[i], 0.25f), i);
+    ASSERT_GT(first.size(), 20000u);
+    std::vector<uint32_t> expect;
+    for (const auto& [c, i] : first) expect.push_back(i);
+    std::sort(expect.begin(), expect.end());
+    EXPECT_EQ(out, expect);
+    // And the small case again in the grown table.
+    sel.select(pts, all, 0.5f, out);
+    EXPECT_EQ(out, (std::vector<uint32_t>{0, 2, 3}));
 }
 
 TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {

@@ -9,6 +9,8 @@
 #include <superloc/fusion/pose_manifold.h>
 #include <superloc/fusion/scan_factor.h>
 
+#include <ceres/ceres.h>
+
 #include <memory>
 #include <random>
 
@@ -112,6 +114,102 @@ TEST(FrameProblem, ScanOnlyRecoversPoseFromPerturbation) {
     EXPECT_LT(translationDistance(cur.T_map_imu(), T_true), 1e-6);
     EXPECT_LT(rotationAngle(cur.T_map_imu(), T_true), 1e-6);
     EXPECT_LT(s.final_cost, 1e-10);
+}
+
+namespace {
+// The scan-only problem solved by Ceres as solveFrame did before it had its own solver.
+SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iterations) {
+    struct NonOwning : ceres::CostFunction {
+        explicit NonOwning(const ceres::CostFunction* f) : f_(f) {
+            set_num_residuals(f->num_residuals());
+            *mutable_parameter_block_sizes() = f->parameter_block_sizes();
+        }
+        bool Evaluate(double const* const* p, double* r, double** J) const override { return f_->Evaluate(p, r, J); }
+        const ceres::CostFunction* f_;
+    };
+    static PoseManifold manifold;
+    ceres::Problem::Options popt;
+    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    problem.AddParameterBlock(cur.pose, 7, &manifold);
+    problem.AddResidualBlock(new NonOwning(&scan), nullptr, cur.pose);
+    ceres::Solver::Options opt;
+    opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+    opt.max_num_iterations = max_iterations;
+    opt.num_threads = 1;
+    opt.logging_type = ceres::SILENT;
+    opt.function_tolerance = 1e-8;
+    opt.parameter_tolerance = 1e-8;
+    ceres::Solver::Summary summary;
+    ceres::Solve(opt, &problem, &summary);
+    SolveSummary out;
+    out.usable = summary.IsSolutionUsable();
+    out.iterations = static_cast<int>(summary.iterations.size()) - 1;
+    out.initial_cost = summary.initial_cost;
+    out.final_cost = summary.final_cost;
+    Eigen::Map<Eigen::Vector4d>(cur.pose + 3).normalize();
+    return out;
+}
+}  // namespace
+
+TEST(FrameProblem, ScanOnlyMatchesCeres) {
+    // solveFrame's own Levenberg-Marquardt for scan-only problems against Ceres on the same
+    // factor: noisy scan points (the minimum's cost is not 0), Cauchy IRLS weights at the start,
+    // starts near and far (steps rejected), 1 to 8 iterations (the path, not only the minimum).
+    const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
+    auto corr = boxRoom(T_true, 800, 11);
+    std::mt19937 rng(4);
+    std::normal_distribution<double> N(0, 0.03);
+    for (auto& c : corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    const SE3d starts[4] = {T_true * makePoseRPY(0.05, -0.03, 0.02, 0.005, 0.004, -0.01),
+                            T_true * makePoseRPY(0.6, -0.4, 0.2, 0.05, 0.06, -0.25),
+                            T_true * makePoseRPY(2.5, 1.5, -0.5, 0.2, -0.1, 0.9),
+                            T_true * makePoseRPY(4.0, -3.0, 1.0, 0.6, -0.5, 2.2)};
+    FusionParams p;
+    for (const SE3d& T0 : starts) {
+        for (int iters : {1, 2, 8}) {
+            ScanFactor scan(corr, 0.05);
+            scan.setRobustWeights(T0, RobustKernel::Cauchy, 0.3);
+            FrameState prev, a, b;
+            a.setPose(T0);
+            b.setPose(T0);
+            FrameProblemInputs in;
+            in.prev = &prev;
+            in.cur = &a;
+            in.scan = &scan;
+            p.max_iterations = iters;
+            const auto sa = solveFrame(in, p);
+            const auto sb = solveWithCeres(scan, b, iters);
+            ASSERT_TRUE(sa.usable);
+            ASSERT_TRUE(sb.usable);
+            EXPECT_EQ(sa.iterations, sb.iterations) << iters;
+            EXPECT_NEAR(sa.initial_cost, sb.initial_cost, 1e-9 * sb.initial_cost);
+            EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-9 * sb.initial_cost);
+            EXPECT_LT(translationDistance(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+            EXPECT_LT(rotationAngle(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+        }
+    }
+    // The linearization is Ceres' J^T J and J^T r in the manifold's tangent.
+    ScanFactor scan(corr, 0.05);
+    FrameState s;
+    s.setPose(starts[1]);
+    const int nr = scan.num_residuals();
+    std::vector<double> r(nr), J(nr * 7);
+    const double* params[1] = {s.pose};
+    double* jac[1] = {J.data()};
+    ASSERT_TRUE(scan.Evaluate(params, r.data(), jac));
+    PoseManifold m;
+    double P[42];
+    m.PlusJacobian(s.pose, P);
+    const Eigen::MatrixXd Jl = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>>(J.data(), nr, 7) *
+                               Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+    const Eigen::VectorXd rv = Eigen::Map<Eigen::VectorXd>(r.data(), nr);
+    Mat6d H;
+    Vec6d g;
+    const double cost = scan.linearize(s.pose, &H, &g);
+    EXPECT_NEAR(cost, 0.5 * rv.squaredNorm(), 1e-9 * cost);
+    EXPECT_LT((H - Jl.transpose() * Jl).norm(), 1e-9 * H.norm());
+    EXPECT_LT((g - Jl.transpose() * rv).norm(), 1e-9 * H.norm());
 }
 
 TEST(FrameProblem, ImuFactorAloneReproducesPrediction) {

@@ -133,4 +133,31 @@ bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
     return true;
 }
 
+double ScanFactor::linearize(const double* x, Mat6d* H, Vec6d* g) const {
+    const Eigen::Quaterniond q(x[6], x[3], x[4], x[5]);
+    const Mat3d R = q.normalized().toRotationMatrix();
+    const Vec3d t(x[0], x[1], x[2]);
+    const bool lin = H && g;
+    if (lin) H->setZero(), g->setZero();
+    double cost = 0, r[3], Jt[18];
+    for (size_t i = 0; i < corr_.size(); ++i) {
+        const Correspondence& c = corr_[i];
+        const int d = residualDim(c.type);
+        correspondenceResidual(c, R, t, r, lin ? Jt : nullptr);
+        const double s = sqrt_w_[i] * inv_sigma_, s2 = s * s;
+        for (int k = 0; k < d; ++k) {
+            cost += s2 * r[k] * r[k];
+            if (!lin) continue;
+            const double* Jk = Jt + 6 * k;
+            for (int a = 0; a < 6; ++a) {
+                const double wa = s2 * Jk[a];
+                for (int b = a; b < 6; ++b) (*H)(a, b) += wa * Jk[b];
+                (*g)(a) += wa * r[k];
+            }
+        }
+    }
+    if (lin) *H = H->selfadjointView<Eigen::Upper>();
+    return 0.5 * cost;
+}
+
 }  // namespace superloc::fusion

@@ -51,6 +51,12 @@ class ScanFactor : public ceres::CostFunction {
     bool Evaluate(double const* const* parameters, double* residuals,
                   double** jacobians) const override;
 
+    /// Cost 0.5 * sum of the squared weighted residuals at pose x (Ceres' 7-vector: t, then
+    /// the quaternion x y z w) and, when H and g are not null, the normal equations in the
+    /// pose manifold's tangent [dt, dtheta]: H = J^T J, g = J^T r. One pass, no Jacobian stored
+    /// (fusion::solveFrame's scan-only path).
+    double linearize(const double* x, Mat6d* H, Vec6d* g) const;
+
    private:
     std::vector<Correspondence> corr_;
     std::vector<double> sqrt_w_;
