@@ -97,6 +97,18 @@ TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
     // And the small case again in the grown table.
     sel.select(pts, all, 0.5f, out);
     EXPECT_EQ(out, (std::vector<uint32_t>{0, 2, 3}));
+    // The one-pass range filter + selection gives what the two calls give, NaN and out of
+    // range points included.
+    big[7] = Vec3f(NAN, 0, 0);
+    big[8] = Vec3f(1e6f, 0, 0);
+    std::vector<uint32_t> valid, valid1, out1;
+    rangeFilter(big, 1.0f, 25.0f, valid);
+    sel.select(big, valid, 0.5f, out);
+    VoxelSelector sel1;
+    sel1.selectInRange(big, 1.0f, 25.0f, 0.5f, valid1, out1);
+    EXPECT_LT(valid.size(), big.size() - 2);
+    EXPECT_EQ(valid1, valid);
+    EXPECT_EQ(out1, out);
 }
 
 TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {

@@ -1,3 +1,4 @@
+#include <superloc/core/floor_int.h>
 #include <superloc/features/voxel_selector.h>
 
 #include <cmath>
@@ -20,15 +21,8 @@ void rangeFilter(const std::vector<Vec3f>& points, float min_range, float max_ra
 namespace {
 // 21 bits per axis (±1M voxels): plenty for any LiDAR range at voxel >= 1 mm.
 inline uint64_t packKey(const Vec3f& p, float inv) {
-    // floor() without the libm call (no SSE4.1 assumed): truncate, then step down for
-    // negatives. The same integer for every finite v * inv in int range, which the range
-    // filter guarantees.
-    const auto q = [inv](float v) {
-        const float s = v * inv;
-        int64_t i = static_cast<int64_t>(s);
-        i -= static_cast<float>(i) > s;
-        return static_cast<uint64_t>(i + (1 << 20)) & 0x1FFFFFu;
-    };
+    // Finite points within the range filter's bounds: floorToInt is exact there.
+    const auto q = [inv](float v) { return static_cast<uint64_t>(floorToInt(v * inv) + (1 << 20)) & 0x1FFFFFu; };
     return (q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z());
 }
 inline uint64_t mix(uint64_t k) {
@@ -55,8 +49,8 @@ void VoxelSelector::grow() {
     }
 }
 
-void VoxelSelector::select(const std::vector<Vec3f>& points, const std::vector<uint32_t>& candidates,
-                           float voxel, std::vector<uint32_t>& out) {
+void VoxelSelector::firstPerVoxel(const std::vector<uint32_t>& idx, std::vector<uint32_t>& out) {
+    // keys_[j] is the voxel of point idx[j].
     out.clear();
     // Keep the last frame's size (the next scan has about as many voxels).
     if (slots_.size() < 4096)
@@ -65,23 +59,47 @@ void VoxelSelector::select(const std::vector<Vec3f>& points, const std::vector<u
         std::fill(slots_.begin(), slots_.end(), kEmpty);
     uint64_t mask = slots_.size() - 1;
     size_t used = 0;
-    const float inv = 1.0f / voxel;
-    uint64_t last = kEmpty;  // consecutive points of a ring often share a voxel: no probe then
-    for (uint32_t i : candidates) {
-        const uint64_t key = packKey(points[i], inv);
+    uint64_t last = kEmpty;  // consecutive points often share a voxel: no probe then
+    for (size_t j = 0; j < idx.size(); ++j) {
+        const uint64_t key = keys_[j];
         if (key == last) continue;
         last = key;
         uint64_t h = mix(key) & mask;
         while (slots_[h] != kEmpty && slots_[h] != key) h = (h + 1) & mask;
         if (slots_[h] == kEmpty) {
             slots_[h] = key;
-            out.push_back(i);
+            out.push_back(idx[j]);
             if (2 * (++used) > slots_.size()) {
                 grow();  // rehashes the keys so far, this one included
                 mask = slots_.size() - 1;
             }
         }
     }
+}
+
+void VoxelSelector::select(const std::vector<Vec3f>& points, const std::vector<uint32_t>& candidates,
+                           float voxel, std::vector<uint32_t>& out) {
+    const float inv = 1.0f / voxel;
+    keys_.resize(candidates.size());
+    for (size_t j = 0; j < candidates.size(); ++j) keys_[j] = packKey(points[candidates[j]], inv);
+    firstPerVoxel(candidates, out);
+}
+
+void VoxelSelector::selectInRange(const std::vector<Vec3f>& points, float min_range, float max_range,
+                                  float voxel, std::vector<uint32_t>& valid, std::vector<uint32_t>& out) {
+    // rangeFilter and select in one pass over the points (a scan is read once, in order).
+    const float r2min = min_range * min_range, r2max = max_range * max_range, inv = 1.0f / voxel;
+    valid.clear();
+    valid.reserve(points.size());
+    keys_.resize(points.size());
+    for (uint32_t i = 0; i < points.size(); ++i) {
+        const float r2 = points[i].squaredNorm();
+        if (r2 >= r2min && r2 <= r2max) {  // NaN compares false: dropped
+            keys_[valid.size()] = packKey(points[i], inv);
+            valid.push_back(i);
+        }
+    }
+    firstPerVoxel(valid, out);
 }
 
 void takeEvenly(const std::vector<uint32_t>& idx, size_t max_count, std::vector<uint32_t>& out) {

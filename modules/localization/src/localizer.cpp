@@ -143,8 +143,8 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     const auto& fp = params_.features;
     rep.points_raw = scan.size();
     // Step 2: NaN/range filter, one candidate per voxel, features spread evenly over the sweep.
-    features::rangeFilter(scan.points, static_cast<float>(fp.min_range), static_cast<float>(fp.max_range), valid_);
-    selector_.select(scan.points, valid_, static_cast<float>(fp.voxel_size), candidates_);
+    selector_.selectInRange(scan.points, static_cast<float>(fp.min_range), static_cast<float>(fp.max_range),
+                            static_cast<float>(fp.voxel_size), valid_, candidates_);
     features::takeEvenly(candidates_, static_cast<size_t>(fp.max_features), feature_idx_);
     rep.points_valid = valid_.size();
     rep.candidates = candidates_.size();
@@ -258,13 +258,20 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         }
         // Step 5: joint solve (paper eq. 12) with IRLS weights at the association pose.
         t0 = Clock::now();
-        fusion::ScanFactor scan(corr_, params_.fusion.scan_sigma * scale);
+        // The factor borrows the round's correspondences and gives them back at the end of the
+        // round (no 2000-element copy per round; corr_ keeps its capacity).
+        fusion::ScanFactor scan(std::move(corr_), params_.fusion.scan_sigma * scale);
+        struct GiveBack {
+            fusion::ScanFactor& f;
+            std::vector<Correspondence>& v;
+            ~GiveBack() { v = f.release(); }
+        } give_back{scan, corr_};
         scan.setRobustWeights(T_before, kernel_, kernel);
         prev_ = prev_saved;
         fusion::FrameProblemInputs in;
         in.prev = &prev_;
         in.cur = &cur_;
-        in.scan = corr_.size() >= kMinCorrespondences ? &scan : nullptr;
+        in.scan = scan.correspondences().size() >= kMinCorrespondences ? &scan : nullptr;
         in.imu = pre;
         in.g_map = g_map_;
         in.acc_bias_rw = params_.imu.acc_bias_rw;

@@ -47,6 +47,11 @@ class ScanFactor : public ceres::CostFunction {
     void setRobustWeights(const SE3d& T_map_imu, RobustKernel kernel, double scale);
     const std::vector<Correspondence>& correspondences() const { return corr_; }
     const std::vector<double>& sqrtWeights() const { return sqrt_w_; }
+    /// Hands the correspondences back (the factor is empty afterwards).
+    std::vector<Correspondence> release() {
+        sqrt_w_.clear();
+        return std::move(corr_);
+    }
 
     bool Evaluate(double const* const* parameters, double* residuals,
                   double** jacobians) const override;

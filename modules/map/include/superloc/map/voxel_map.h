@@ -12,6 +12,7 @@
 // (nothing per point is kept).
 #pragma once
 
+#include <superloc/core/floor_int.h>
 #include <superloc/core/types.h>
 
 #include <cmath>
@@ -94,8 +95,7 @@ inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
     if (L.table.empty()) return nullptr;
     const Vec3f s = x * L.inv;
     if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return nullptr;
-    const uint64_t key = packKey(static_cast<int64_t>(std::floor(s.x())), static_cast<int64_t>(std::floor(s.y())),
-                                 static_cast<int64_t>(std::floor(s.z())));
+    const uint64_t key = packKey(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
     for (uint64_t h = mix(key) & L.mask;; h = (h + 1) & L.mask) {
         const Slot& slot = L.table[h];
         if (slot.key == key) return &slot.stats;
