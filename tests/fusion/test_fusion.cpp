@@ -53,6 +53,22 @@ std::vector<Correspondence> boxRoom(const SE3d& T_true, int n, unsigned seed) {
     }
     return out;
 }
+
+// The factor's residuals at the pose of s and their Jacobian in the manifold's 6-D tangent
+// (Ceres' ambient 7-column Jacobian times PlusJacobian).
+Eigen::MatrixXd tangentJacobian(const ScanFactor& f, const FrameState& s, std::vector<double>& r) {
+    const int nr = f.num_residuals();
+    std::vector<double> J(static_cast<size_t>(nr) * 7);
+    r.assign(static_cast<size_t>(nr), 0.0);
+    const double* params[1] = {s.pose};
+    double* jac[1] = {J.data()};
+    EXPECT_TRUE(f.Evaluate(params, r.data(), jac));
+    PoseManifold m;
+    double P[42];
+    m.PlusJacobian(s.pose, P);
+    return Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>>(J.data(), nr, 7) *
+           Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+}
 }  // namespace
 
 TEST(PoseManifold, PlusMinusAndJacobian) {
@@ -78,15 +94,9 @@ TEST(ScanFactor, AnalyticJacobianMatchesNumeric) {
     FrameState s;
     s.setPose(T);
     const int nr = f.num_residuals();
-    std::vector<double> r0(nr), J(nr * 7), r1(nr);
-    const double* params[1] = {s.pose};
-    double* jac[1] = {J.data()};
-    ASSERT_TRUE(f.Evaluate(params, r0.data(), jac));
+    std::vector<double> r0, r1(nr);
+    const Eigen::MatrixXd Jt = tangentJacobian(f, s, r0);
     PoseManifold m;
-    double P[42];
-    m.PlusJacobian(s.pose, P);
-    const Eigen::MatrixXd Jt = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>>(J.data(), nr, 7) *
-                               Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
     const double h = 1e-7;
     for (int k = 0; k < 6; ++k) {
         double d[6] = {0, 0, 0, 0, 0, 0}, y[7];
@@ -193,17 +203,9 @@ TEST(FrameProblem, ScanOnlyMatchesCeres) {
     ScanFactor scan(corr, 0.05);
     FrameState s;
     s.setPose(starts[1]);
-    const int nr = scan.num_residuals();
-    std::vector<double> r(nr), J(nr * 7);
-    const double* params[1] = {s.pose};
-    double* jac[1] = {J.data()};
-    ASSERT_TRUE(scan.Evaluate(params, r.data(), jac));
-    PoseManifold m;
-    double P[42];
-    m.PlusJacobian(s.pose, P);
-    const Eigen::MatrixXd Jl = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 7, Eigen::RowMajor>>(J.data(), nr, 7) *
-                               Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
-    const Eigen::VectorXd rv = Eigen::Map<Eigen::VectorXd>(r.data(), nr);
+    std::vector<double> r;
+    const Eigen::MatrixXd Jl = tangentJacobian(scan, s, r);
+    const Eigen::VectorXd rv = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
     Mat6d H;
     Vec6d g;
     const double cost = scan.linearize(s.pose, &H, &g);
