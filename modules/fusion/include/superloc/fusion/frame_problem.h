@@ -1,5 +1,7 @@
 // The per-frame joint optimisation (paper eq. 12): scan residuals + IMU preintegration factor
-// between the previous and current states + the relative-pose prior, solved with Ceres.
+// between the previous and current states + the relative-pose prior, solved with Ceres (a
+// problem with the scan factor alone by Ceres' Levenberg-Marquardt written out for the 6-D
+// pose, frame_problem.cpp: no problem to build, the same steps).
 #pragma once
 
 #include <superloc/fusion/fusion_params.h>
@@ -39,7 +41,7 @@ struct FrameProblemInputs {
 };
 
 struct SolveSummary {
-    bool usable = false;      ///< Ceres' IsSolutionUsable()
+    bool usable = false;      ///< Ceres' IsSolutionUsable() (the scan-only path: its equivalent)
     int iterations = 0;
     double initial_cost = 0, final_cost = 0;
     /// The current state's marginal at the solution: the problem's information (Gauss-Newton,
