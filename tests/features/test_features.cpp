@@ -97,12 +97,15 @@ TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
     // And the small case again in the grown table.
     sel.select(pts, all, 0.5f, out);
     EXPECT_EQ(out, (std::vector<uint32_t>{0, 2, 3}));
-    // The one-pass range filter + selection gives what the two calls give, NaN and out of
-    // range points included.
+    // The one-pass range filter + selection: the points in range (NaN and far points out), and
+    // of those what select() keeps.
     big[7] = Vec3f(NAN, 0, 0);
     big[8] = Vec3f(1e6f, 0, 0);
     std::vector<uint32_t> valid, valid1, out1;
-    rangeFilter(big, 1.0f, 25.0f, valid);
+    for (uint32_t i = 0; i < big.size(); ++i) {
+        const float r = big[i].norm();
+        if (r >= 1.0f && r <= 25.0f) valid.push_back(i);
+    }
     sel.select(big, valid, 0.5f, out);
     VoxelSelector sel1;
     sel1.selectInRange(big, 1.0f, 25.0f, 0.5f, valid1, out1);
@@ -113,9 +116,11 @@ TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
 
 TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {
     std::vector<Vec3f> pts = {{0.5f, 0, 0}, {5, 0, 0}, {NAN, 0, 0}, {200, 0, 0}, {0, 3, 4}};
-    std::vector<uint32_t> out;
-    rangeFilter(pts, 1.0f, 100.0f, out);
+    std::vector<uint32_t> out, selected;
+    VoxelSelector sel;
+    sel.selectInRange(pts, 1.0f, 100.0f, 0.5f, out, selected);
     EXPECT_EQ(out, (std::vector<uint32_t>{1, 4}));
+    EXPECT_EQ(selected, (std::vector<uint32_t>{1, 4}));
     std::vector<uint32_t> idx(100), few;
     for (uint32_t i = 0; i < 100; ++i) idx[i] = i;
     takeEvenly(idx, 10, few);

@@ -1,22 +1,9 @@
 #include <superloc/core/floor_int.h>
 #include <superloc/features/voxel_selector.h>
 
-#include <cmath>
 #include <algorithm>
 
 namespace superloc::features {
-
-void rangeFilter(const std::vector<Vec3f>& points, float min_range, float max_range,
-                 std::vector<uint32_t>& out) {
-    out.clear();
-    out.reserve(points.size());
-    const float r2min = min_range * min_range, r2max = max_range * max_range;
-    for (uint32_t i = 0; i < points.size(); ++i) {
-        const float r2 = points[i].squaredNorm();
-        // NaN compares false: dropped.
-        if (r2 >= r2min && r2 <= r2max) out.push_back(i);
-    }
-}
 
 namespace {
 // 21 bits per axis (±1M voxels): plenty for any LiDAR range at voxel >= 1 mm.
@@ -87,7 +74,7 @@ void VoxelSelector::select(const std::vector<Vec3f>& points, const std::vector<u
 
 void VoxelSelector::selectInRange(const std::vector<Vec3f>& points, float min_range, float max_range,
                                   float voxel, std::vector<uint32_t>& valid, std::vector<uint32_t>& out) {
-    // rangeFilter and select in one pass over the points (a scan is read once, in order).
+    // The range test and the voxel keys in one pass over the points (a scan is read once, in order).
     const float r2min = min_range * min_range, r2max = max_range * max_range, inv = 1.0f / voxel;
     valid.clear();
     valid.reserve(points.size());

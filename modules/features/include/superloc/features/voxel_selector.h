@@ -10,11 +10,6 @@
 
 namespace superloc::features {
 
-/// Indices of the finite points whose range lies in [min_range, max_range], appended to `out`
-/// (which is cleared first).
-void rangeFilter(const std::vector<Vec3f>& points, float min_range, float max_range,
-                 std::vector<uint32_t>& out);
-
 class VoxelSelector {
    public:
     /// From the candidate indices, keeps the first point of every occupied voxel of size
@@ -23,8 +18,9 @@ class VoxelSelector {
     void select(const std::vector<Vec3f>& points, const std::vector<uint32_t>& candidates,
                 float voxel, std::vector<uint32_t>& out);
 
-    /// rangeFilter (into `valid`) and select (into `out`) in one pass over the points: the
-    /// same results as the two calls, ~20 % cheaper on a 124k-point scan.
+    /// The indices of the finite points whose range lies in [min_range, max_range] (into
+    /// `valid`) and select() of those (into `out`), in one pass over the points (~20 % cheaper
+    /// on a 124k-point scan than two). Both are cleared first.
     void selectInRange(const std::vector<Vec3f>& points, float min_range, float max_range, float voxel,
                        std::vector<uint32_t>& valid, std::vector<uint32_t>& out);
 
