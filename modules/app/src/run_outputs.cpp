@@ -25,7 +25,10 @@ std::string framesCsvHeader() {
            "health,health_reason,inlier_reference,pred_dxyz,pred_ddeg,"
            "reloc_mode,reloc_trigger,reloc_result,reloc_detail,reloc_hypotheses,reloc_verified,reloc_ms,last_step_xyz,last_step_deg,"
            "reloc_candidates,reloc_evidence_ratio,flags_labels1,flags_labels2,flags_eigen,start,imu_drift_deg,"
-           "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz";
+           "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz,"
+           "scan_info_x,scan_info_y,scan_info_z,scan_info_roll,scan_info_pitch,scan_info_yaw,"
+           "scan_sigma_x,scan_sigma_y,scan_sigma_z,scan_sigma_roll,scan_sigma_pitch,scan_sigma_yaw,"
+           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw,weak";
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -86,6 +89,10 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     add("%.3f", r.imu_drift_deg);
     for (int k = 0; k < 3; ++k) add("%.5f", r.bias.acc[k]);
     for (int k = 0; k < 3; ++k) add("%.6f", r.bias.gyro[k]);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.scan_info[k]);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.scan_sigma[k]);
+    for (int k = 0; k < 6; ++k) add("%.6g", r.est_sigma[k]);
+    s += ',' + risk::axisLetters(r.weak);
     return s;
 }
 

@@ -248,4 +248,38 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     return out;
 }
 
+std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, const FusionParams& params) {
+    if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
+    // Copies: the problem's blocks are ours, and the caller's states stay as they are.
+    FrameState prev = *in.prev, cur = *in.cur;
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    static PoseManifold manifold;
+    for (FrameState* s : {&prev, &cur}) {
+        problem.AddParameterBlock(s->pose, 7, &manifold);
+        problem.AddParameterBlock(s->speed_bias, 9);
+    }
+    problem.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr,
+                             prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
+    problem.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
+                             nullptr, prev.pose, prev.speed_bias);
+    const auto m = marginalize(problem, prev, cur);
+    if (!m) return std::nullopt;
+    return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);
+}
+
+std::optional<Mat6d> poseInformation(const Mat15d& M) {
+    const Mat6d Hpp = M.topLeftCorner<6, 6>();
+    const Eigen::Matrix<double, 6, 9> Hps = M.topRightCorner<6, 9>();
+    const Eigen::Matrix<double, 9, 9> Hss = M.bottomRightCorner<9, 9>();
+    const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(Hss);
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::nullopt;
+    Mat6d I = Hpp - Hps * ldlt.solve(Hps.transpose());
+    I = 0.5 * (I + I.transpose());
+    if (!I.allFinite()) return std::nullopt;
+    return I;
+}
+
 }  // namespace superloc::fusion

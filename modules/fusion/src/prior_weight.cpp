@@ -19,6 +19,8 @@ void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(passive_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(passive_sigma_rot_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(eigen_threshold, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(odom_calibration, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(calibration_memory_m, double, c, s);
     prior_kernel = c.read_string(s, "prior_kernel", prior_kernel);
     MRPT_LOAD_CONFIG_VAR(prior_kernel_sigmas, double, c, s);
 }
@@ -33,6 +35,8 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_xyz, "[m] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(passive_sigma_rot_deg, "[deg] passive: per-frame prior std");
     MRPT_SAVE_CONFIG_VAR_COMMENT(eigen_threshold, "[-] eigen_remap: min share of a group's information (uniform 1/3)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(odom_calibration, "superloc: learn odom_alt's systematic error where the scan holds an axis");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(calibration_memory_m, "[m] superloc: forgetting distance of that fit");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel, "robust loss on the odom_alt prior: none | huber | cauchy");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel_sigmas, "[-] its scale, in sigmas of the prior");
 }
@@ -53,6 +57,7 @@ void ActiveFusionParams::validate() const {
         throw ConfigError(std::string("[fusion] prior_kernel: ") + e.what());
     }
     positive(prior_kernel_sigmas, "prior_kernel_sigmas");
+    positive(calibration_memory_m, "calibration_memory_m");
 }
 
 Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, double sigma,
@@ -120,6 +125,11 @@ Mat6d sqrtInfo(const Vec6d& W) {
     Mat6d S = Mat6d::Zero();
     for (int k = 0; k < 6; ++k) S(k, k) = std::sqrt(std::max(0.0, W[k]));
     return S;
+}
+
+Mat6d sqrtInfo(const Mat6d& W) {
+    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (W + W.transpose()));
+    return es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
 }
 
 RemapResult eigenRemap(const SE3d& T_ref, const SE3d& T_solved, const Mat6d& H, double threshold) {

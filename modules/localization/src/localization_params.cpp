@@ -10,10 +10,11 @@ Method methodFromString(const std::string& s) {
     if (s == "icp") return Method::Icp;
     if (s == "ndt") return Method::Ndt;
     if (s == "superloc") return Method::SuperLoc;
+    if (s == "superloc_paper") return Method::SuperLocPaper;
     if (s == "passive") return Method::Passive;
     if (s == "eigen_remap") return Method::EigenRemap;
     throw ConfigError("[localization] method = '" + s +
-                      "' is unknown (use icp, ndt, superloc, passive or eigen_remap)");
+                      "' is unknown (use icp, ndt, superloc, superloc_paper, passive or eigen_remap)");
 }
 
 const char* methodName(Method m) {
@@ -21,6 +22,7 @@ const char* methodName(Method m) {
         case Method::Icp: return "icp";
         case Method::Ndt: return "ndt";
         case Method::SuperLoc: return "superloc";
+        case Method::SuperLocPaper: return "superloc_paper";
         case Method::Passive: return "passive";
         case Method::EigenRemap: return "eigen_remap";
     }
@@ -55,7 +57,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 }
 
 void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(method, "icp | ndt | superloc | passive | eigen_remap");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(method, "icp | ndt | superloc | superloc_paper | passive | eigen_remap");
     MRPT_SAVE_CONFIG_VAR_COMMENT(use_imu, "IMU prediction + preintegration factor when available");
     MRPT_SAVE_CONFIG_VAR_COMMENT(output_frame, "reported poses: lidar (T_map_lidar) or body");
     MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");

@@ -1,6 +1,7 @@
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/core/timing.h>
+#include <superloc/fusion/prior_weight.h>
 #include <superloc/features/deskew.h>
 #include <superloc/imu/rest_init.h>
 #include <superloc/localization/localizer.h>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <limits>
 
 namespace superloc::localization {
 
@@ -39,7 +41,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
     : mrpt::system::COutputLogger("Localizer"),
       params_(params),
       method_(methodFromString(params.loc.method)),
-      variant_(makeMethodVariant(method_, params.fusion)),
+      variant_(makeMethodVariant(method_, params.fusion, params.risk)),
       health_(params.health),
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
@@ -63,7 +65,7 @@ PreparedMap Localizer::prepareMap(const LocalizerParams& params, std::shared_ptr
     if (!map || map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     PreparedMap p;
     p.map = std::move(map);
-    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion).registration == Registration::Ndt) {
+    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion, params.risk).registration == Registration::Ndt) {
         NdtParams np;
         np.resolution = params.loc.ndt_resolution;
         np.step_size = params.loc.ndt_step_size;
@@ -190,6 +192,19 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
     // its pose is set to each round's association pose where the policy is asked.
     FusionFrame fusion_frame;
     if (fused) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
+    if (fused) {
+        // What the estimate knows without odom_alt, carried from the last frame through the IMU
+        // (fusion::EstimateInformation); the scan's labels are added at the association below.
+        fusion::FrameState p = prev_saved, c = cur_;
+        fusion::FrameProblemInputs in;
+        in.prev = &p;
+        in.cur = &c;
+        in.imu = pre;
+        in.g_map = g_map_;
+        in.acc_bias_rw = params_.imu.acc_bias_rw;
+        in.gyro_bias_rw = params_.imu.gyro_bias_rw;
+        est_info_.predict(in, params_.fusion);
+    }
     const int rounds = wide ? lp.rounds_init : lp.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
@@ -240,6 +255,22 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
             const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
                                                          params_.risk);
             rep.setRisk(risk);
+            if (fused) {
+                // Where is the estimate weak without odom_alt? (doc/method.md §2)
+                const Mat6d H = fusion::scanInformation(corr_, T_before, params_.fusion.scan_sigma);
+                const double n = params_.risk.normal_noise_deg * kDeg;
+                scan_info_ = fusion::informationAboveNoise(H, std::pow(std::sin(n), 2));
+                Vec6d weak;
+                weak << Vec3d::Constant(params_.risk.weak_sigma_xyz), Vec3d::Constant(params_.risk.weak_sigma_deg * kDeg);
+                fusion_frame.scan = fusion::weakness(scan_info_, weak);
+                fusion_frame.est = fusion::weakness(est_info_.information(scan_info_), weak);
+                rep.scan_info = scan_info_.diagonal();
+                rep.scan_sigma = fusion_frame.scan.sigma;
+                rep.est_sigma = fusion_frame.est.sigma;
+                rep.weak = fusion_frame.est.weak;
+                frame_est_ = fusion_frame.est;
+                frame_scan_ = fusion_frame.scan;
+            }
             if (fused) {
                 fusion_frame.T_map_imu = T_before;
                 prior = variant_.fusion->prior(fusion_frame, risk);
@@ -326,7 +357,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         associate(pts_body_, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
     }
-    if (prior) rep.prior_weight = prior->sqrt_info.diagonal().cwiseAbs2();
+    if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();
 }
 
 void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
@@ -451,6 +482,8 @@ FrameReport Localizer::process(const Scan& scan) {
     rep.t = scan.t;
     const bool first = !have_prev_;
     cur_marginal_.reset();
+    scan_info_.setZero();
+    frame_est_ = frame_scan_ = {};
     T_imu_lidar_ = scan.T_imu_lidar;
 
     // Step 1: prediction.
@@ -561,6 +594,7 @@ FrameReport Localizer::process(const Scan& scan) {
     // frame was the search's already), then the state carried to the next frame.
     recoverIfLost(scan, pred, !requested, rep);
     updateTrackingState(scan, pred, rep);
+    const fusion::FrameState frame_prev = prev_;  // the state this frame was solved from
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(prev_) : std::nullopt;
     prev_ = cur_;
@@ -578,6 +612,21 @@ FrameReport Localizer::process(const Scan& scan) {
     const bool own_solve = cur_marginal_ && !rep.diverged && !rep.recovered && !restart_ &&
                            (cur_marginal_->T_ref.matrix() - cur_.T_map_imu().matrix()).cwiseAbs().maxCoeff() < 1e-9;
     prev_marginal_ = own_solve ? cur_marginal_ : std::nullopt;
+    // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
+    const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
+    if (tracked)
+        est_info_.commit(cur_, scan_info_);
+    else
+        est_info_.reset();
+    if (tracked && !first && variant_.fusion->usesOdomAlt()) {
+        FusionFrame f;
+        f.T_map_imu = cur_.T_map_imu();
+        f.T_prev_map_imu = frame_prev.T_map_imu();
+        f.odom_delta = odomAltDelta(frame_prev.t, cur_.t);
+        f.est = frame_est_;
+        f.scan = frame_scan_;
+        variant_.fusion->frameDone(f, rep);
+    }
     if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
         prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);
     have_prev_ = have_prev_ || !reloc_pending_;

@@ -3,6 +3,8 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/method_variant.h>
 
+#include <cmath>
+
 namespace superloc::localization {
 
 std::optional<fusion::RelativePosePrior> OdomFusionPassive::prior(const FusionFrame& f,
@@ -14,8 +16,49 @@ std::optional<fusion::RelativePosePrior> OdomFusionPassive::prior(const FusionFr
     return p;
 }
 
+OdomFusionActive::OdomFusionActive(const fusion::ActiveFusionParams& p, const Vec6d& weak_sigma)
+    : p_(p), weak_(weak_sigma), calib_([&] {
+          fusion::OdomCalibrationParams c;
+          c.memory_m = p.calibration_memory_m;
+          return c;
+      }()) {}
+
 std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFrame& f,
-                                                                 const risk::RiskReport& risk) const {
+                                                                 const risk::RiskReport&) const {
+    if (!f.odom_delta || !f.est.any()) return std::nullopt;
+    // What odom_alt is worth per axis: its calibrated residual, else what it reports, else the
+    // passive prior's sigmas.
+    Vec6d sigma = fusion::passiveInformation(p_).cwiseSqrt().cwiseInverse();
+    if (f.odom_cov_prev && f.odom_cov_cur) sigma = fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_);
+    fusion::RelativePosePrior p;
+    p.delta = *f.odom_delta;
+    if (p_.odom_calibration) {
+        const Vec6d cal = calib_.sigma(*f.odom_delta);
+        for (int k = 0; k < 6; ++k)
+            if (std::isfinite(cal[k])) sigma[k] = cal[k];
+        p.delta = calib_.correct(*f.odom_delta);
+    }
+    // ... applied along the directions where the estimate is weak, in proportion to how weak.
+    const Vec6d w_odom = sigma.cwiseAbs2().cwiseInverse();
+    const Mat6d W = f.est.G * w_odom.asDiagonal() * f.est.G;
+    p.sqrt_info = fusion::sqrtInfo(W);
+    return p;
+}
+
+void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
+    if (!p_.odom_calibration || !f.odom_delta) return;
+    // Learn only where the scan alone held the axis: there the estimate is the scan's, and no
+    // odom_alt prior pulled it (the prior lies along the estimate's weak directions only).
+    const Mat6d Ps = f.scan.G * f.scan.G, Pe = f.est.G * f.est.G;
+    std::array<bool, 6> held{};
+    bool any = false;
+    for (int k = 0; k < 6; ++k) any |= held[k] = Ps(k, k) < 0.1 && Pe(k, k) < 0.1;
+    if (!any) return;
+    calib_.update(*f.odom_delta, f.T_prev_map_imu.inverse() * f.T_map_imu, held);
+}
+
+std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFrame& f,
+                                                                const risk::RiskReport& risk) const {
     if (!f.odom_delta || !f.corr) return std::nullopt;
     // DESIGN §5 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
     // information per axis of the group, at the predicted pose (doc/method.md §2).
@@ -54,7 +97,7 @@ SE3d OdomFusionEigenRemap::afterRound(const FusionFrame& f, const SE3d& T_round_
     return r.T;
 }
 
-MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params) {
+MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params, const risk::RiskParams& risk) {
     MethodVariant v;
     switch (m) {
         case Method::Icp: v.fusion = std::make_unique<OdomFusionNone>(); break;
@@ -63,8 +106,14 @@ MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params) {
             v.fusion = std::make_unique<OdomFusionNone>();
             break;
         case Method::Passive: v.fusion = std::make_unique<OdomFusionPassive>(params.active); break;
-        case Method::SuperLoc:
-            v.fusion = std::make_unique<OdomFusionActive>(params.active, params.scan_sigma);
+        case Method::SuperLoc: {
+            Vec6d weak;
+            weak << Vec3d::Constant(risk.weak_sigma_xyz), Vec3d::Constant(risk.weak_sigma_deg * M_PI / 180.0);
+            v.fusion = std::make_unique<OdomFusionActive>(params.active, weak);
+            break;
+        }
+        case Method::SuperLocPaper:
+            v.fusion = std::make_unique<OdomFusionPaper>(params.active, params.scan_sigma);
             break;
         case Method::EigenRemap: v.fusion = std::make_unique<OdomFusionEigenRemap>(params.active); break;
     }

@@ -57,4 +57,17 @@ StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params);
 /// Builds and solves the problem once (the caller re-associates and calls again).
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params);
 
+/// What the IMU window knows of the current state before its scan is seen: the previous state's
+/// prior (`in.prev_prior`, else the fixed sigmas) carried through the IMU factor to the current
+/// state at its present values (the prediction). 15 x 15 information in StatePriorFactor's error
+/// coordinates (translation in the current body axes, body rotation, velocity, biases): the
+/// pose block is in the coordinates of scanInformation (a right perturbation T Exp(d)). Empty
+/// without IMU (`in.imu` null or dt 0) or when the linearization fails. Touches neither state;
+/// the scan and odom_alt prior of `in` are not used.
+std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, const FusionParams& params);
+
+/// The pose's information in a state information M (15 x 15, pose first): velocity and biases
+/// eliminated by the Schur complement. Empty when their block is singular.
+std::optional<Mat6d> poseInformation(const Mat15d& M);
+
 }  // namespace superloc::fusion

@@ -41,6 +41,11 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// odom_alt that its covariance does not report is then a many-sigma outlier against the
     /// IMU / scan evidence, and pulls with a bounded, falling force instead of in full
     /// (doc/method.md §2).
+    /// superloc: odom_alt's systematic error (drift per metre, rotation scale, rotation per
+    /// metre) fitted online on the axes the scan holds and removed before fusing
+    /// (fusion::OdomCalibration, doc/method.md §2)
+    bool odom_calibration = true;
+    double calibration_memory_m = 500.0;  ///< [m] forgetting distance of that fit
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 
@@ -77,6 +82,8 @@ Vec6d passiveInformation(const ActiveFusionParams& p);
 
 /// sqrt of a diagonal information, as RelativePoseFactor's 6x6 sqrt_info.
 Mat6d sqrtInfo(const Vec6d& W);
+/// The same for a full symmetric positive semi-definite information (L^T L = W).
+Mat6d sqrtInfo(const Mat6d& W);
 
 struct RemapResult {
     SE3d T = SE3d::Identity();          ///< remapped pose

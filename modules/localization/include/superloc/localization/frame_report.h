@@ -45,6 +45,15 @@ struct FrameReport {
     Vec6d hessian_eigenvalues = Vec6d::Zero();
     Vec3d translation_eigenvalues = Vec3d::Zero();
     Vec3d weakest_translation = Vec3d::Zero();
+    /// What the estimate knows of each axis without odom_alt, at the predicted pose before the
+    /// solve (doc/method.md §2, body axes): the scan's information counted by its labels
+    /// [1/m^2, 1/rad^2], the std it alone gives, the std of scan + IMU window (+inf where
+    /// nothing holds the axis; 0: not computed), and the axes where that std exceeds [risk]
+    /// weak_sigma_* (the `weak` column: superloc fuses odom_alt there).
+    Vec6d scan_info = Vec6d::Zero();
+    Vec6d scan_sigma = Vec6d::Zero();
+    Vec6d est_sigma = Vec6d::Zero();
+    std::array<bool, 6> weak{};
     bool prior_used = false;           ///< a relative-pose prior entered the solve
     Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
 

@@ -8,12 +8,12 @@
 namespace superloc::localization {
 
 /// DESIGN §6. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion.
-enum class Method { Icp, Ndt, SuperLoc, Passive, EigenRemap };
+enum class Method { Icp, Ndt, SuperLoc, Passive, EigenRemap, SuperLocPaper };
 Method methodFromString(const std::string& s);  ///< throws ConfigError listing the names
 const char* methodName(Method m);
 
 struct LocalizationParams : public mrpt::config::CLoadableOptions {
-    std::string method = "superloc";  ///< superloc | icp | ndt | passive | eigen_remap
+    std::string method = "superloc";  ///< superloc | superloc_paper | icp | ndt | passive | eigen_remap
     bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 

@@ -13,6 +13,7 @@
 #include <superloc/features/deskew.h>
 #include <superloc/features/features_params.h>
 #include <superloc/features/voxel_selector.h>
+#include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/fusion_params.h>
 #include <superloc/imu/imu_params.h>
@@ -287,6 +288,12 @@ class Localizer : public mrpt::system::COutputLogger {
     /// marginal of the last frame's own solve, or none (fixed sigmas) when that frame's pose did
     /// not come from it. cur_marginal_: this frame's, from its last solve.
     std::optional<fusion::StatePrior> prev_marginal_, cur_marginal_;
+    /// What the estimate knows without odom_alt (the weak-axis decision, doc/method.md §2); this
+    /// frame's scan information above its noise floor (body), and where the estimate and the
+    /// scan alone were weak.
+    fusion::EstimateInformation est_info_;
+    Mat6d scan_info_ = Mat6d::Zero();
+    fusion::Weakness frame_est_, frame_scan_;
     size_t frames_ = 0;
 
     // Per-frame scratch (kept to avoid allocations in the hot path).

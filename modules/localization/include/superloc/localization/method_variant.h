@@ -6,7 +6,10 @@
 //   icp          Icp           OdomFusionNone
 //   ndt          Ndt           OdomFusionNone
 //   passive      Icp           OdomFusionPassive     relative-pose prior, fixed weight
-//   superloc     Icp           OdomFusionActive      relative-pose prior weighted by the risk
+//   superloc     Icp           OdomFusionActive      odom_alt calibrated online, fused where the
+//                                                    estimate (scan + IMU window) is weak
+//   superloc_paper Icp         OdomFusionPaper       relative-pose prior weighted by the scan's risk
+//                                                    (the paper's W = (1 - gamma) s, ablation)
 //   eigen_remap  Icp           OdomFusionEigenRemap  Zhang et al. 2016 solution remapping
 //
 // The Localizer asks its policy for the prior of each solve (prior()) and lets it amend each
@@ -16,8 +19,10 @@
 
 #include <superloc/core/correspondence.h>
 #include <superloc/core/types.h>
+#include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/fusion_params.h>
+#include <superloc/fusion/odom_calibration.h>
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/localization_params.h>
@@ -38,6 +43,9 @@ struct FusionFrame {
     SE3d T_prev_map_imu = SE3d::Identity();             ///< previous frame's solved pose
     std::optional<SE3d> odom_delta;                     ///< odom_alt body motion over the frame
     std::optional<Mat6d> odom_cov_prev, odom_cov_cur;   ///< odom_alt's covariance at both ends
+    /// Where the estimate without odom_alt (scan above its noise floor + IMU window,
+    /// fusion::EstimateInformation) is weak before the solve, and where the scan alone is.
+    fusion::Weakness est, scan;
 };
 
 class OdomFusion {
@@ -56,6 +64,9 @@ class OdomFusion {
                             const SE3d& T_solved, FrameReport&) const {
         return T_solved;
     }
+    /// Once a tracked frame is final (not diverged, lost or relocalized): `f` with T_map_imu
+    /// the final pose and odom_alt's motion over the frame (when the policy reads it).
+    virtual void frameDone(const FusionFrame& /*f*/, const FrameReport& /*rep*/) {}
 };
 
 /// icp, ndt: the scan alone (and the IMU).
@@ -72,11 +83,31 @@ class OdomFusionPassive : public OdomFusion {
     fusion::ActiveFusionParams p_;
 };
 
-/// superloc: the relative-pose prior on the axes the risk flags, W = diag(max(0, 1 - γ)) s
-/// (paper §III-C, DESIGN §5).
+/// superloc (doc/method.md §2): odom_alt's motion, its systematic error fitted online on the
+/// axes the scan holds (fusion::OdomCalibration) and removed, fused along the directions where
+/// the estimate without it is weak, with the information it is worth there:
+///   W = G diag(1 / sigma_odom,k^2) G,   G = FusionFrame::est.G (fusion::weakness)
+/// sigma_odom: the calibration's residual std where an axis is calibrated, else the growth of
+/// odom_alt's reported std over the frame, else the passive prior's sigmas.
 class OdomFusionActive : public OdomFusion {
    public:
-    OdomFusionActive(const fusion::ActiveFusionParams& p, double scan_sigma) : p_(p), scan_sigma_(scan_sigma) {}
+    OdomFusionActive(const fusion::ActiveFusionParams& p, const Vec6d& weak_sigma);
+    bool usesOdomAlt() const override { return true; }
+    std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
+    void frameDone(const FusionFrame& f, const FrameReport& rep) override;
+    const fusion::OdomCalibration& calibration() const { return calib_; }
+
+   private:
+    fusion::ActiveFusionParams p_;
+    Vec6d weak_;
+    fusion::OdomCalibration calib_;
+};
+
+/// superloc_paper: the relative-pose prior on the axes the scan's risk flags,
+/// W = diag(max(0, 1 - gamma)) s (paper §III-C; doc/method.md §2, the ablation).
+class OdomFusionPaper : public OdomFusion {
+   public:
+    OdomFusionPaper(const fusion::ActiveFusionParams& p, double scan_sigma) : p_(p), scan_sigma_(scan_sigma) {}
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
 
@@ -107,6 +138,6 @@ struct MethodVariant {
 };
 
 /// The variant of a method (table above).
-MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params);
+MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params, const risk::RiskParams& risk);
 
 }  // namespace superloc::localization

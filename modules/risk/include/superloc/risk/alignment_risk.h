@@ -26,6 +26,16 @@ struct RiskParams : public mrpt::config::CLoadableOptions {
     /// Table I read literally); 2 = the two largest non-zero ones (the authors' released code):
     /// the two rotation axes the correspondence's surface can constrain. See doc/method.md.
     int rotation_labels = 2;
+    /// The estimate is weak along a direction when its std there without odom_alt (the scan's
+    /// information above its noise floor plus the IMU window, fusion::EstimateInformation)
+    /// exceeds this: the flags `weak` of frames.csv and superloc's decision where to fuse
+    /// odom_alt (doc/method.md §2)
+    double weak_sigma_xyz = 0.05;  ///< [m]
+    double weak_sigma_deg = 0.5;   ///< [deg]
+    /// [deg] angular noise of the map's plane normals: a direction gets from the scan only the
+    /// information above what normals this noisy give it by chance (a share sin^2 of this of
+    /// each group's information; the small x components of a corridor's wall normals hold nothing)
+    double normal_noise_deg = 4.0;
     bool keep_jacobians = false;  ///< fill RiskReport::jacobians (costs memory; off in the loop)
     bool hessian_eigen = true;    ///< compute the classic Hessian eigen-analysis for comparison
 

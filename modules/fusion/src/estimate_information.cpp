@@ -1,0 +1,109 @@
+#include <superloc/fusion/estimate_information.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+
+namespace superloc::fusion {
+
+namespace {
+using Mat3 = Eigen::Matrix3d;
+
+/// S of one group: V diag(sqrt(max(0, l - floor tr) / l)) V^T.
+Mat3 noiseScale(const Mat3& block, double floor_share) {
+    const double tr = block.trace();
+    if (!(tr > 0) || !block.allFinite()) return Mat3::Zero();
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(0.5 * (block + block.transpose()));
+    Eigen::Vector3d f;
+    for (int i = 0; i < 3; ++i) {
+        const double l = es.eigenvalues()[i];
+        f[i] = l > 0 ? std::sqrt(std::max(0.0, l - floor_share * tr) / l) : 0.0;
+    }
+    return es.eigenvectors() * f.asDiagonal() * es.eigenvectors().transpose();
+}
+}  // namespace
+
+Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
+    Mat6d S = Mat6d::Zero();
+    S.topLeftCorner<3, 3>() = noiseScale(H.topLeftCorner<3, 3>(), floor_share);
+    S.bottomRightCorner<3, 3>() = noiseScale(H.bottomRightCorner<3, 3>(), floor_share);
+    const Mat6d out = S * H * S;
+    return 0.5 * (out + out.transpose());
+}
+
+bool Weakness::any() const {
+    for (bool w : weak)
+        if (w) return true;
+    return false;
+}
+
+Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
+    Weakness out;
+    // Covariance with the unheld directions at kMaxSigma (a pseudo-inverse that stays finite).
+    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (info + info.transpose()));
+    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
+    Mat6d C = Mat6d::Zero();
+    for (int i = 0; i < 6; ++i) {
+        const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
+        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() / l;
+    }
+    out.sigma = C.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMin(kMaxSigma);
+    // Per group: the directions of the marginal covariance and their std.
+    for (int g = 0; g < 2; ++g) {
+        const Mat3 Cg = C.block<3, 3>(3 * g, 3 * g);
+        const Eigen::SelfAdjointEigenSolver<Mat3> eg(0.5 * (Cg + Cg.transpose()));
+        Eigen::Vector3d w;
+        for (int i = 0; i < 3; ++i) {
+            const double var = std::max(0.0, eg.eigenvalues()[i]);
+            const double lim = weak_sigma[3 * g];
+            w[i] = var > lim * lim ? 1.0 - lim * lim / var : 0.0;
+        }
+        out.G.block<3, 3>(3 * g, 3 * g) =
+            eg.eigenvectors() * w.cwiseSqrt().asDiagonal() * eg.eigenvectors().transpose();
+        const Mat3 P = eg.eigenvectors() * w.asDiagonal() * eg.eigenvectors().transpose();
+        for (int k = 0; k < 3; ++k) out.weak[3 * g + k] = P(k, k) >= 0.5;
+    }
+    return out;
+}
+
+void EstimateInformation::predict(const FrameProblemInputs& in, const FusionParams& params) {
+    FrameProblemInputs p = in;
+    p.prev_prior = prior_ ? &*prior_ : nullptr;
+    carried_ = imuWindowStateInformation(p, params);
+}
+
+Mat6d EstimateInformation::information(const Mat6d& H) const {
+    if (!carried_) return H;
+    Mat15d M = *carried_;
+    M.topLeftCorner<6, 6>() += H;
+    const auto I = poseInformation(M);
+    return I ? *I : H;
+}
+
+void EstimateInformation::commit(const FrameState& cur, const Mat6d& H) {
+    if (!carried_) {
+        prior_.reset();
+        return;
+    }
+    Mat15d M = *carried_;
+    M.topLeftCorner<6, 6>() += H;
+    M = 0.5 * (M + M.transpose());
+    carried_.reset();
+    const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
+    if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) {
+        prior_.reset();
+        return;
+    }
+    StatePrior p;
+    p.T_ref = cur.T_map_imu();
+    for (int k = 0; k < 9; ++k) p.sb_ref[k] = cur.speed_bias[k];
+    p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+    prior_ = p;
+}
+
+void EstimateInformation::reset() {
+    prior_.reset();
+    carried_.reset();
+}
+
+}  // namespace superloc::fusion
