@@ -26,7 +26,11 @@ Mat3 noiseScale(const Mat3& block, double floor_share) {
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
     Mat6d S = Mat6d::Zero();
     S.topLeftCorner<3, 3>() = noiseScale(H.topLeftCorner<3, 3>(), floor_share);
-    S.bottomRightCorner<3, 3>() = noiseScale(H.bottomRightCorner<3, 3>(), floor_share);
+    // Rotation: no floor. A torque's noise grows with the lever arm, so a share of the group's
+    // trace (dominated by the long yaw and pitch arms) would take roll's real information in a
+    // corridor; the rotation degeneracies (yaw over a plane, roll in a round tunnel) are exact
+    // zeros of the torques, not a noise level.
+    S.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
     const Mat6d out = S * H * S;
     return 0.5 * (out + out.transpose());
 }

@@ -127,8 +127,23 @@ Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
         pr.v_body = nav.R.transpose() * nav.v;
         return pr;
     }
-    // Step 1 without IMU: constant velocity from the last two estimates.
     const SE3d T_prev = prev_.T_map_imu();
+    // Step 1 without IMU, with odom_alt where the method predicts from it (superloc: its motion
+    // with the calibrated systematic error removed).
+    if (variant_.fusion->usesOdomAlt() && t > prev_.t) {
+        if (const auto d = odomAltDelta(prev_.t, t)) {
+            if (const auto m = variant_.fusion->motion(*d)) {
+                const Vec6d xi = toVec6(*m) / (t - prev_.t);
+                pr.T_map_imu = T_prev * *m;
+                pr.v_body = xi.head<3>();
+                pr.w_body = xi.tail<3>();
+                pr.v = T_prev.linear() * pr.v_body;
+                pr.from_odom = true;
+                return pr;
+            }
+        }
+    }
+    // Step 1 without IMU: constant velocity from the last two estimates.
     pr.T_map_imu = T_prev;
     if (prev_prev_ && prev_.t > prev_prev_->t) {
         const double dt_prev = prev_.t - prev_prev_->t;
@@ -154,7 +169,7 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
     features::SweepMotion motion;
-    if (fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
+    if (fp.deskew && (pred.twist_from_imu || pred.from_odom || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
         !scan.empty()) {
         const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
         if (s_min < 0) {
@@ -539,7 +554,7 @@ FrameReport Localizer::process(const Scan& scan) {
     // and their solved pose is not checked against the prediction (it may be far off, rightly);
     // without IMU, the last scan first measures the motion, and the frame is tracked from it.
     bool velocity_unknown =
-        first || restart_ || (!pred.used_imu && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
+        first || restart_ || (!pred.used_imu && !pred.from_odom && (!prev_prev_ || scan.t - prev_.t > lp.max_cv_gap));
     const bool requested = reloc_pending_ || !hypotheses_.empty();
     if (velocity_unknown && !first && !requested && !pred.used_imu && lp.motion_from_last_scan &&
         !last_scan_points_.empty() && motionFromLastScan(pred, rep)) {

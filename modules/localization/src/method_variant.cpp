@@ -45,6 +45,10 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     return p;
 }
 
+std::optional<SE3d> OdomFusionActive::motion(const SE3d& odom_delta) const {
+    return p_.odom_calibration ? calib_.correct(odom_delta) : odom_delta;
+}
+
 void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
     if (!p_.odom_calibration || !f.odom_delta) return;
     // Learn only where the scan alone held the axis: there the estimate is the scan's, and no

@@ -23,11 +23,12 @@
 
 namespace superloc::fusion {
 
-/// The scan information H without its noise floor: per group (translation, rotation), each
-/// eigen-direction keeps its eigenvalue minus `floor_share` of the group's trace (never below 0).
-/// A plane normal with angular noise sigma_n puts a share of about sigma_n^2 of its information
-/// on every direction across it by chance; that much holds nothing. The cross terms between the
-/// groups are scaled alike (H_eff = S H S, S = V diag(sqrt(kept / eigenvalue)) V^T per group).
+/// The scan information H without its noise floor: each eigen-direction of the translation
+/// block keeps its eigenvalue minus `floor_share` of the block's trace (never below 0). A plane
+/// normal with angular noise sigma_n puts a share of about sigma_n^2 of its information on every
+/// direction across it by chance; that much holds nothing. The cross terms with the rotation
+/// are scaled alike (H_eff = S H S, S = V diag(sqrt(kept / eigenvalue)) V^T on the translation,
+/// identity on the rotation, whose degeneracies are exact zeros of the torques).
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share);
 
 /// Where an estimate of information `info` is weak: per group, the eigen-directions u_i of its

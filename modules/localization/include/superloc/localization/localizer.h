@@ -121,6 +121,7 @@ class Localizer : public mrpt::system::COutputLogger {
         bool used_imu = false;        ///< pose predicted by IMU preintegration
         bool twist_from_imu = false;  ///< deskew twist measured by the IMU
         bool at_rest = false;         ///< first frame: the IMU says the robot is at rest (velocity 0)
+        bool from_odom = false;       ///< no IMU: predicted by odom_alt's motion (OdomFusion::motion)
     };
     Prediction predict(double t, imu::Preintegration& pre);
     void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
