@@ -222,8 +222,13 @@ void BenchApp::writeResults() const {
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
     const std::string preamble = "Produced by `" + command_line_ + "` on " + date + ".\n";
+    std::vector<SeedGroup> groups;
+    for (const auto& s : suite.sequences) {
+        if (groups.empty() || groups.back().name != s.group) groups.push_back({s.group, {}});
+        groups.back().members.push_back(s.name);
+    }
     writeTextFile((fs::path(out_dir) / "results.md").string(),
-                  resultsMarkdown(runs, seqs, meths, preamble, plots));
+                  resultsMarkdown(runs, seqs, meths, preamble, plots) + seedMeansMarkdown(runs, groups, meths));
     writeTextFile((fs::path(out_dir) / "results.json").string(), resultsJson(runs, suite.path));
 }
 

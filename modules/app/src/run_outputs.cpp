@@ -28,7 +28,7 @@ std::string framesCsvHeader() {
            "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz,"
            "scan_info_x,scan_info_y,scan_info_z,scan_info_roll,scan_info_pitch,scan_info_yaw,"
            "scan_sigma_x,scan_sigma_y,scan_sigma_z,scan_sigma_roll,scan_sigma_pitch,scan_sigma_yaw,"
-           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw,weak";
+           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw";
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -92,7 +92,6 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_info[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_sigma[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.est_sigma[k]);
-    s += ',' + risk::axisLetters(r.weak);
     return s;
 }
 

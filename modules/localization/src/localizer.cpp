@@ -282,7 +282,10 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
                 rep.scan_info = scan_info_.diagonal();
                 rep.scan_sigma = fusion_frame.scan.sigma;
                 rep.est_sigma = fusion_frame.est.sigma;
-                rep.weak = fusion_frame.est.weak;
+                // The frame's decision: `degenerate` is where the estimate is weak; the paper's
+                // scan-only flags stay in flags_labels2 (and gamma).
+                rep.degenerate = fusion_frame.est.weak;
+                rep.degenerate_axes = risk::axisLetters(rep.degenerate);
                 frame_est_ = fusion_frame.est;
                 frame_scan_ = fusion_frame.scan;
             }

@@ -10,6 +10,7 @@
 //   [eval]  ... (eval::EvalParams keys)
 //   [seq.corridor]
 //   type = sim            config = ../sim/corridor.ini   seed = 1   sim_set = sim.duration=20
+//   (or seeds = 1 2 3: one sequence NAME_sN per seed, grouped under NAME in the report)
 //   [seq.kitti00-mini]
 //   type = kitti          data = kitti00-mini   gt = gt_velodyne_tum.txt   prior_voxel = 0.1
 //   [seq.campus-ouster]
@@ -26,6 +27,8 @@ namespace superloc::app {
 struct SequenceSpec {
     enum class Kind { Sim, Kitti, PcdDir };
     std::string name;
+    /// The suite's sequence this one came from: `name`, or NAME for the NAME_sN of `seeds`
+    std::string group;
     Kind kind = Kind::Sim;
     std::string config;                 ///< sim: scenario INI (absolute)
     int seed = 1;                       ///< sim: --seed

@@ -47,7 +47,7 @@ struct RiskPrediction {
         double recall() const;
         Counts& operator+=(const Counts& o);
     };
-    std::array<std::array<Counts, 6>, 3> counts{};  ///< [rule][axis]
+    std::array<std::array<Counts, 6>, kRules> counts{};  ///< [rule][axis] (kRuleColumns)
     size_t frames = 0;                             ///< frames matched to GT
     RiskPrediction& operator+=(const RiskPrediction& o);
 };
