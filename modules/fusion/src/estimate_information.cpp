@@ -51,7 +51,17 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
         const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
         C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() / l;
     }
-    out.sigma = C.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMin(kMaxSigma);
+    // The std per axis over the eigen-directions that make at least 5 % of it: the marginal,
+    // without the unheld corridor axis's thousandth along z turning 1 km into a metre of z.
+    for (int k = 0; k < 6; ++k) {
+        double var = 0;
+        for (int i = 0; i < 6; ++i) {
+            const double u2 = es.eigenvectors()(k, i) * es.eigenvectors()(k, i);
+            const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
+            if (u2 >= 0.05) var += u2 / l;
+        }
+        out.sigma[k] = std::min(kMaxSigma, std::sqrt(var));
+    }
     // Per group: the directions of the marginal covariance and their std.
     for (int g = 0; g < 2; ++g) {
         const Mat3 Cg = C.block<3, 3>(3 * g, 3 * g);

@@ -40,7 +40,9 @@ struct Weakness {
     Mat6d G = Mat6d::Zero();
     /// Body axis k is weak when (G G)_kk >= 0.5: at least half of it lies in weak directions.
     std::array<bool, 6> weak{};
-    /// Marginal std per axis, capped at kMaxSigma [m, rad] where nothing holds the axis.
+    /// Std per axis [m, rad] over the information's eigen-directions that make at least 5 % of
+    /// the axis (the marginal, without a near-unheld direction's small component on it), capped
+    /// at kMaxSigma where nothing holds the axis.
     Vec6d sigma = Vec6d::Zero();
     bool any() const;
 };
