@@ -209,7 +209,9 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
     if (fused) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
     if (fused) {
         // What the estimate knows without odom_alt, carried from the last frame through the IMU
-        // (fusion::EstimateInformation); the scan's labels are added at the association below.
+        // (fusion::EstimateInformation); the scan's is added at the association below. Timed
+        // with the risk step.
+        const auto t_est = Clock::now();
         fusion::FrameState p = prev_saved, c = cur_;
         fusion::FrameProblemInputs in;
         in.prev = &p;
@@ -219,6 +221,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         in.acc_bias_rw = params_.imu.acc_bias_rw;
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
         est_info_.predict(in, params_.fusion);
+        rep.ms.risk += msSince(t_est);
     }
     const int rounds = wide ? lp.rounds_init : lp.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
