@@ -33,10 +33,13 @@ std::string readFile(const fs::path& p) {
     return ss.str();
 }
 
+/// The last `n` lines of `text` (all of it when it has fewer).
 std::string lastLines(const std::string& text, size_t n) {
-    size_t pos = text.size();
-    for (size_t k = 0; k <= n && pos > 0; ++k) pos = text.rfind('\n', pos - 1);
-    return pos == std::string::npos || pos == 0 ? text : text.substr(pos + 1);
+    size_t start = text.size(), seen = 0;
+    if (start > 0 && text[start - 1] == '\n') --start;  // the final line break ends the last line
+    while (start > 0 && seen < n)
+        if (text[--start] == '\n' && ++seen == n) return text.substr(start + 1);
+    return text;
 }
 
 DocSandbox sandbox(const std::string& name) {
@@ -143,6 +146,8 @@ TEST(Docs, ABrokenCommandFailsItsBlock) {
     EXPECT_NE(r.log.find("--jsn"), std::string::npos) << r.log;
     EXPECT_NE(r.log.find("docs-test: page.md:12: exit "), std::string::npos) << r.log;
     EXPECT_EQ(r.log.find("not reached"), std::string::npos) << r.log;
+    EXPECT_EQ(lastLines("a\nb\nc\n", 2), "b\nc\n");
+    EXPECT_EQ(lastLines("a\nb", 5), "a\nb");
     // /tmp/ of the block is the sandbox's: the real /tmp/gt.tum is untouched.
     EXPECT_TRUE(fs::exists(fs::path(box.root()).parent_path() / "tmp/gt.tum"));
 }
