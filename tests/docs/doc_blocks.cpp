@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -69,6 +70,13 @@ void applyMarker(const std::string& directive, const std::string& file, int line
 }
 
 }  // namespace
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
 
 std::vector<DocBlock> bashBlocks(const std::string& markdown, const std::string& file) {
     static const std::string kOpen = "<!-- docs-test:", kClose = "-->";

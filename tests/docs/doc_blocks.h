@@ -15,6 +15,9 @@
 
 namespace superloc::testing::docs {
 
+/// The whole text of the file at `path` ("" when it cannot be read).
+std::string readText(const std::string& path);
+
 /// [s] a block's time budget when no `budget` marker gives one.
 inline constexpr int kDefaultBudget = 180;
 

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <regex>
 #include <set>
@@ -13,16 +12,6 @@
 namespace fs = std::filesystem;
 
 namespace superloc::testing::docs {
-namespace {
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-}  // namespace
 
 LinkCheck checkLinks(const std::string& root_dir) {
     static const std::set<std::string> kText = {".md", ".h", ".cpp", ".txt", ".cmake", ".ini", ".sh", ".py", ".in"};
@@ -43,7 +32,7 @@ LinkCheck checkLinks(const std::string& root_dir) {
         if (anchor.empty() || target.extension() != ".md") return;
         const fs::path key = fs::canonical(target);
         auto it = anchors.find(key);
-        if (it == anchors.end()) it = anchors.emplace(key, headingAnchors(readFile(key))).first;
+        if (it == anchors.end()) it = anchors.emplace(key, headingAnchors(readText(key))).first;
         if (!it->second.count(anchor))
             out.problems.push_back(where + ": '" + as_written + "': no heading with anchor #" + anchor + " in " +
                                    fs::relative(key, fs::canonical(root)).string());
@@ -61,7 +50,7 @@ LinkCheck checkLinks(const std::string& root_dir) {
         ++out.files;
         const bool md = file.extension() == ".md";
         const std::string rel = fs::relative(file, root).string();
-        std::istringstream in(readFile(file));
+        std::istringstream in(readText(file));
         int n = 0;
         for (std::string line; std::getline(in, line);) {
             const std::string where = rel + ":" + std::to_string(++n);

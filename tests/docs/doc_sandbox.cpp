@@ -9,7 +9,6 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <stdexcept>
 
 namespace fs = std::filesystem;
@@ -41,13 +40,6 @@ void writeExecutable(const fs::path& path, const std::string& text) {
     std::ofstream(path) << text;
     fs::permissions(path, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
                               fs::perms::others_read | fs::perms::others_exec);
-}
-
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 /// `dst` holds a link to every entry of `src` except those named in `except`.
@@ -153,7 +145,7 @@ BlockRun DocSandbox::run(const DocBlock& b) const {
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     r.over_budget = r.exit_code == 124 || r.exit_code == 137;
-    r.log = readFile(log);
+    r.log = readText(log);
     if (r.over_budget)
         r.log += "docs-test: " + where + ": over its budget of " + std::to_string(b.budget_s) + " s\n";
     return r;

@@ -14,7 +14,6 @@
 #include <iostream>
 #include <map>
 #include <set>
-#include <sstream>
 #include <sys/wait.h>
 
 #include "doc_blocks.h"
@@ -25,13 +24,6 @@ namespace fs = std::filesystem;
 using namespace superloc::testing::docs;
 
 namespace {
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 /// The last `n` lines of `text` (all of it when it has fewer).
 std::string lastLines(const std::string& text, size_t n) {
@@ -51,7 +43,7 @@ DocSandbox sandbox(const std::string& name) {
 /// may use an earlier one's files, so the first failure ends the page.
 void runPage(const std::string& page) {
     SUPERLOC_REQUIRE_DATA("kitti00-mini");
-    const auto blocks = bashBlocks(readFile(superloc::testing::sourcePath(page)), page);
+    const auto blocks = bashBlocks(readText(superloc::testing::sourcePath(page)), page);
     const DocSandbox box = sandbox("docs_page");
     int ran = 0;
     for (const auto& b : blocks) {
@@ -166,10 +158,10 @@ TEST(Docs, AnAppThatWritesNothingFailsItsCommand) {
     const std::string eval_ok = wrap("superloc-eval", "/bin/true");
     EXPECT_EQ(run(eval_ok + " --est a --gt b"), 0);  // no --json: nothing promised
     EXPECT_EQ(run(eval_ok + " --est a --gt b --json " + dir + "/e.json"), 3);
-    EXPECT_NE(readFile(dir + "/out.txt").find("docs-test: superloc-eval exited 0 but did not write " + dir +
+    EXPECT_NE(readText(dir + "/out.txt").find("docs-test: superloc-eval exited 0 but did not write " + dir +
                                               "/e.json (--json)"),
               std::string::npos)
-        << readFile(dir + "/out.txt");
+        << readText(dir + "/out.txt");
     std::ofstream(dir + "/e.json") << "{}\n";
     EXPECT_EQ(run(eval_ok + " --est a --gt b --json=" + dir + "/e.json"), 0);
     EXPECT_EQ(run(eval_ok + " --help --json " + dir + "/none.json"), 0);
@@ -179,7 +171,7 @@ TEST(Docs, AnAppThatWritesNothingFailsItsCommand) {
     std::ofstream(dir + "/run/trajectory.tum") << "0 0 0 0 0 0 0 1\n";
     std::ofstream(dir + "/run/summary.json") << "{}\n";
     EXPECT_EQ(run(wrap("superloc-localize", "/bin/true") + " x.ini --out " + dir + "/run"), 3);
-    EXPECT_NE(readFile(dir + "/out.txt").find("did not write " + dir + "/run/frames.csv (--out)"),
+    EXPECT_NE(readText(dir + "/out.txt").find("did not write " + dir + "/run/frames.csv (--out)"),
               std::string::npos);
     // An executable the docs test promises nothing for runs as it is.
     EXPECT_EQ(run(wrap("rawlog-edit", "/bin/false")), 1);
