@@ -1,4 +1,4 @@
-// superloc-bench's runner end to end with stand-in tools (shell scripts honouring the DESIGN §9
+// superloc-bench's runner end to end with stand-in tools (shell scripts honouring the apps'
 // command lines), so the suite logic is tested without the real simulator and localizer.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-// Active sensor fusion (issue 5, DESIGN §5-6): the prior information W = diag(max(0, 1-gamma)) s,
+// Active sensor fusion (issue 5, doc/method.md §2): the prior information W = diag(max(0, 1-gamma)) s,
 // the scan information it is scaled to, Zhang's eigen remap, the observability scan, and the
 // methods superloc / passive / eigen_remap in the Localizer on a synthetic corridor (x
 // unobservable). The risk scenes themselves (plane -> x y yaw, corridor -> x, room -> none) are in

@@ -44,7 +44,7 @@ struct BenchFlags {
 void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.description(
         "Runs every method of a suite on every sequence, evaluates, writes DIR/results.md,\n"
-        "DIR/results.json and DIR/*.svg (DESIGN §8).");
+        "DIR/results.json and DIR/*.svg (doc/evaluation.md).");
     cli.add_option("SUITE.ini", f.suite_path, "the suite (e.g. ini/bench/quick.ini)")->required();
     cli.add_option("--out", app.out_dir, "output folder (data/, runs/, logs/ and the results)")
         ->type_name("DIR")

@@ -167,7 +167,7 @@ void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport
     rep.candidates = candidates_.size();
     rep.features = feature_idx_.size();
 
-    // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
+    // Deskew to the scan time with the predicted twist, seen from the LiDAR (doc/design.md#3-data-conventions).
     features::SweepMotion motion;
     if (fp.deskew && (pred.twist_from_imu || pred.from_odom || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
         !scan.empty()) {
@@ -267,7 +267,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         associate(pts_body_, T_before, *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
         if (r == 0 || (voxel && level == 0 && in_stage == 0 && wide)) {
-            // Step 4: alignment risk before the optimisation at this resolution (DESIGN §5): at the
+            // Step 4: alignment risk before the optimisation at this resolution (doc/method.md §1): at the
             // predicted pose, and for a wide frame again when the finest level starts.
             t0 = Clock::now();
             const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),

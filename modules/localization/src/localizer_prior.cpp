@@ -1,4 +1,4 @@
-// The Localizer's link to odom_alt (DESIGN §5): its relative motion and covariance over a frame,
+// The Localizer's link to odom_alt (doc/method.md §2): its relative motion and covariance over a frame,
 // what the method's fusion policy (method_variant.h) sees of the frame, and the observability
 // labels of the last frame's correspondences.
 #include <superloc/core/se3.h>

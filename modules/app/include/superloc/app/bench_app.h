@@ -1,4 +1,4 @@
-// The superloc-bench application (DESIGN §8-9): runs a suite of sequences x methods through
+// The superloc-bench application (doc/evaluation.md): runs a suite of sequences x methods through
 // the other apps (as child processes found next to this one), evaluates every run and writes
 // DIR/results.md, DIR/results.json and DIR/*.svg.
 //

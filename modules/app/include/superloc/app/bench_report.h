@@ -1,4 +1,4 @@
-// The benchmark suite's tables (paper Table I shape) and JSON (DESIGN §8).
+// The benchmark suite's tables (paper Table I shape) and JSON (doc/evaluation.md).
 #pragma once
 
 #include <superloc/eval/evaluation.h>

@@ -1,4 +1,4 @@
-// The superloc-localize application (DESIGN §9) as a class that apps/ wraps and tests drive:
+// The superloc-localize application (doc/localizer.md) as a class that apps/ wraps and tests drive:
 //   superloc-localize CONFIG.ini [--rawlog F] [--map F] [--method NAME] [--out DIR]
 //       [--initial-pose "x y z qx qy qz qw" | --initial-pose-tum TUM] [--set sect.key=value]...
 //       [--dump-config] [--quiet] [--help]

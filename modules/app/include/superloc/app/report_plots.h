@@ -1,4 +1,4 @@
-// The evaluation's pictures (DESIGN §8), as SVG text.
+// The evaluation's pictures (doc/evaluation.md), as SVG text.
 #pragma once
 
 #include <superloc/core/types.h>

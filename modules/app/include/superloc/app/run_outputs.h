@@ -1,4 +1,4 @@
-// Outputs of a localization run (DESIGN §9), written progressively: the app layer's writers.
+// Outputs of a localization run (doc/localizer.md), written progressively: the app layer's writers.
 //   trajectory.tum  one pose per frame (flushed per line)
 //   frames.csv      one localization::FrameReport per line (flushed per line), header below
 //   summary.json    counts and timing statistics (at the end)
@@ -24,7 +24,7 @@ class TumWriter;
 
 namespace superloc::app {
 
-/// The frames.csv header (DESIGN §9 columns first, then the localizer's own).
+/// The frames.csv header (doc/design.md#9-command-line columns first, then the localizer's own).
 std::string framesCsvHeader();
 /// One frames.csv line for a report; `T` is the pose written (lidar or body, per output_frame).
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T);

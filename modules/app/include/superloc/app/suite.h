@@ -1,5 +1,5 @@
-// A benchmark suite (DESIGN §8): sequences x methods, read from a suite INI, and the
-// command lines of the apps that prepare and run each case (DESIGN §9 contract).
+// A benchmark suite (doc/evaluation.md): sequences x methods, read from a suite INI, and the
+// command lines of the apps that prepare and run each case (doc/design.md#9-command-line).
 //
 //   [suite]
 //   methods         = superloc icp passive eigen_remap ndt
@@ -39,7 +39,7 @@ struct SequenceSpec {
     double prior_voxel = 0.1;           ///< [m] real: voxel of the prior map built from the scans
     double gt_map_voxel = 0.02;         ///< [m] real: voxel of the GT map built from the scans
     /// real: the scans the prior map is built from and the scans localized in it ([rawlog]
-    /// scans syntax). Never the same scans (the honest protocol, DESIGN §8), unless `circular`.
+    /// scans syntax). Never the same scans (the honest protocol, doc/design.md#8-evaluation), unless `circular`.
     std::string map_scans = "even", localize_scans = "odd";
     bool circular = false;              ///< real: a labelled sanity check with map_scans == localize_scans
     std::vector<std::string> localize_sets;  ///< extra --set for this sequence's localize runs
@@ -66,7 +66,7 @@ struct SequenceFiles {
 };
 SequenceFiles sequenceFiles(const SequenceSpec& seq, const std::string& out_dir);
 
-/// Command lines (argv) of the apps, DESIGN §9. `tool` is the executable's path.
+/// Command lines (argv) of the apps, doc/design.md#9-command-line. `tool` is the executable's path.
 std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq,
                                     const std::string& dir);
 std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq,

@@ -1,4 +1,4 @@
-// One run's evaluation: every metric of DESIGN §8 from an estimate, its GT and optionally the
+// One run's evaluation: every metric of doc/evaluation.md from an estimate, its GT and optionally the
 // maps and the localizer's frame log; plus its JSON and Markdown forms.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The localizer's per-frame log (DESIGN §9 `frames.csv`), as the evaluation needs it.
+// The localizer's per-frame log (`frames.csv`, doc/localizer.md), as the evaluation needs it.
 #pragma once
 
 #include <superloc/core/types.h>

@@ -1,4 +1,4 @@
-// What the Localizer reports for every scan (DESIGN §4 step 6). "Diverged" and "not converged"
+// What the Localizer reports for every scan (doc/localizer.md, Outputs). "Diverged" and "not converged"
 // are fields, never exceptions.
 #pragma once
 
@@ -33,7 +33,7 @@ struct FrameReport {
     Vec3d velocity = Vec3d::Zero();    ///< [m/s] body velocity in map
     imu::ImuBias bias;
 
-    // Alignment risk at the predicted pose (DESIGN §5): x y z roll pitch yaw.
+    // Alignment risk at the predicted pose (doc/method.md §1): x y z roll pitch yaw.
     Vec6d gamma = Vec6d::Zero();
     /// The weak axes: of the estimate without odom_alt (fusion::weakness) on a tracked frame,
     /// where superloc fuses odom_alt; of the scan's gamma (as flags_labels2) on other solves.

@@ -1,4 +1,4 @@
-// The Localizer: per-frame scan-to-map pipeline with IMU (DESIGN §4) and its state.
+// The Localizer: per-frame scan-to-map pipeline with IMU (doc/localizer.md) and its state.
 //
 //   1. predict the pose at scan time (IMU preintegration, or constant velocity without IMU)
 //   2. deskew, filter, voxel-select and cap the features

@@ -1,4 +1,4 @@
-// The method variants of DESIGN §6 as classes with one interface. A method is a registration
+// The method variants (doc/localizer.md) as classes with one interface. A method is a registration
 // (the Localizer's Ceres point-to-plane/line/point loop, or PCL NDT) and an odom_alt fusion
 // policy; the fusion policies are one family, named family + variant as in mp2p_icp:
 //
