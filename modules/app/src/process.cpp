@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -15,11 +16,25 @@
 namespace superloc::app {
 namespace fs = std::filesystem;
 namespace {
-volatile sig_atomic_t g_child = 0;  ///< pid of the running child, 0 when none
+// The pids of the running children (0: a free slot), one per concurrent runProcess
+// (superloc-bench --jobs). Lock-free atomics, so the signal handler may read them.
+std::atomic<pid_t> g_children[kMaxChildren] = {};
+static_assert(std::atomic<pid_t>::is_always_lock_free);
 
 void onTermination(int sig) {
-    if (g_child > 0) ::kill(static_cast<pid_t>(g_child), SIGKILL);
+    for (auto& c : g_children)
+        if (const pid_t pid = c.load(); pid > 0) ::kill(pid, SIGKILL);
     ::_exit(128 + sig);
+}
+
+/// Remembers a child for onTermination; the slot, or nullptr when all are taken (more than
+/// kMaxChildren at once: that child is not killed on a signal).
+std::atomic<pid_t>* registerChild(pid_t pid) {
+    for (auto& c : g_children) {
+        pid_t free_slot = 0;
+        if (c.compare_exchange_strong(free_slot, pid)) return &c;
+    }
+    return nullptr;
 }
 }  // namespace
 
@@ -55,7 +70,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         ::_exit(127);
     }
     ::close(log_fd);
-    g_child = pid;
+    std::atomic<pid_t>* slot = registerChild(pid);
     int status = 0;
     struct rusage ru {};
     for (;;) {
@@ -69,7 +84,7 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    g_child = 0;
+    if (slot) slot->store(0);
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     r.peak_rss_mb = double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
     if (WIFEXITED(status))
