@@ -12,7 +12,8 @@ struct ProcessResult {
     int exit_code = -1;      ///< exit status (128 + signal when killed by a signal)
     bool timed_out = false;  ///< killed after the timeout
     double wall_s = 0;       ///< [s] wall time
-    double peak_rss_mb = 0;  ///< [MiB] peak resident memory of the child (rusage ru_maxrss)
+    /// [MiB] peak resident memory of the child's program (VmHWM, read every 20 ms while it runs)
+    double peak_rss_mb = 0;
     bool ok() const { return started && !timed_out && exit_code == 0; }
 };
 
