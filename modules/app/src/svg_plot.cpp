@@ -181,6 +181,10 @@ void SvgPlot::hline(double y, const std::string& color, bool dashed) {
 void SvgPlot::legend(const std::vector<std::pair<std::string, std::string>>& entries) {
     double y = top_ + 14;
     const double x = w_ - right_ - 130;
+    if (!entries.empty())  // a light backing, so that the entries stay legible over the data
+        body_ += "<rect x=\"" + num(x - 4) + "\" y=\"" + num(top_ + 3) + "\" width=\"128\" height=\"" +
+                 num(14.0 * static_cast<double>(entries.size()) + 4) +
+                 "\" fill=\"white\" fill-opacity=\"0.85\"/>\n";
     for (const auto& [name, color] : entries) {
         body_ += "<line x1=\"" + num(x) + "\" y1=\"" + num(y - 4) + "\" x2=\"" + num(x + 18) +
                  "\" y2=\"" + num(y - 4) + "\" stroke=\"" + color +
