@@ -268,7 +268,7 @@ void RunReport::addMapPoints(const std::vector<Vec3f>& points) {
         for (const auto& p : points)
             if (p.allFinite()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
         const float extent = hi.x() >= lo.x() ? std::max(hi.x() - lo.x(), hi.y() - lo.y()) : 0.f;
-        cell_ = std::max(0.02f, extent / 1000);
+        cell_ = std::max(0.02f, extent / 800);  // about a pixel of the top view
     }
     for (const auto& p : points)
         if (p.allFinite() && cells_.insert(voxelKey(Vec3f(p.x(), p.y(), 0), cell_)).second)

@@ -39,9 +39,10 @@ struct ReportFrame {
 
 class RunReport {
  public:
-    /// Prior map points, kept from above one per square cell of 1/1000 of the first map's x-y
-    /// extent (at least 2 cm), so that memory stays bounded for any map. Call again for more
-    /// (the tiles of a tiled map).
+    /// Prior map points, kept from above one per square cell of 1/800 of the first map's x-y
+    /// extent (about a pixel of the top view; at least 2 cm), so that memory stays bounded for
+    /// any map (at most 640 000 cells of the first map's extent). Call again for more (the
+    /// tiles of a tiled map).
     void addMapPoints(const std::vector<Vec3f>& points);
     /// One frame, with `T` the pose written to trajectory.tum.
     void addFrame(const localization::FrameReport& r, const SE3d& T);
@@ -57,7 +58,7 @@ class RunReport {
  private:
     float cell_ = 0;  ///< [m] set by the first addMapPoints
     std::unordered_set<VoxelKey, VoxelKeyHash> cells_;
-    std::vector<double> map_x_, map_y_;
+    std::vector<double> map_x_, map_y_;  ///< one point per cell
     std::vector<ReportFrame> frames_;
     std::vector<std::pair<std::string, std::string>> inputs_;
 };
