@@ -41,7 +41,7 @@ class RunReport {
  public:
     /// Prior map points, kept from above one per square cell of 1/800 of the first map's x-y
     /// extent (about a pixel of the top view; at least 2 cm), so that memory stays bounded for
-    /// any map (at most 640 000 cells of the first map's extent). Call again for more (the
+    /// any map (at most 801² cells over the first map's extent). Call again for more (the
     /// tiles of a tiled map).
     void addMapPoints(const std::vector<Vec3f>& points);
     /// One frame, with `T` the pose written to trajectory.tum.
