@@ -330,8 +330,8 @@ std::string RunReport::html(const io::Json& summary, const std::string& title) c
                     " map cells kept) and the trajectory written (trajectory.tum), coloured by each frame's "
                     "health (frames.csv <code>health</code>; doc/health.md).");
     h += figure("flags", {flags},
-                "Top row: each frame's health. Below: the axes the alignment risk flagged degenerate on the "
-                "frame (frames.csv <code>degenerate</code>: γ below [risk] degenerate_threshold).");
+                "Top row: each frame's health. Below: the axes flagged degenerate (weak) on the frame "
+                "(frames.csv <code>degenerate</code>; doc/localizer.md says what decides it).");
     h += figure("prior", {prior},
                 prior_values == 0
                     ? std::string("No frame's solve had an odom_alt prior (frames.csv <code>prior_used</code> "
