@@ -193,7 +193,8 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
     return md;
 }
 
-std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path) {
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
+                        unsigned jobs) {
     io::Json list = io::Json::array();
     for (const auto& r : runs)
         list.push_back({{"sequence", r.sequence},
@@ -203,7 +204,7 @@ std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& s
                         {"peak_rss_mb", r.peak_rss_mb},
                         {"gt_length_m", r.gt_length_m},
                         {"metrics", r.result ? eval::toJson(*r.result, false) : io::Json(nullptr)}});
-    return io::toJsonText({{"suite", suite_path}, {"runs", list}}, "results.json");
+    return io::toJsonText({{"suite", suite_path}, {"jobs", jobs}, {"runs", list}}, "results.json");
 }
 
 std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vector<SeedGroup>& groups,

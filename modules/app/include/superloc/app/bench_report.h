@@ -40,8 +40,11 @@ struct SeedGroup {
 std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vector<SeedGroup>& groups,
                               const std::vector<std::string>& methods);
 
-/// results.json: {"runs": [...]} with every metric (no curves) per run.
-std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path);
+/// results.json: {"suite", "jobs", "runs": [...]} with every metric (no curves) per run; `jobs`
+/// runs were run at a time (superloc-bench --jobs: above 1 the times were measured on shared
+/// cores).
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
+                        unsigned jobs = 1);
 
 /// Path length [m] of a trajectory (sum of consecutive translation distances).
 double pathLength(const Trajectory& traj);

@@ -32,6 +32,10 @@ std::string f1CurvesSvg(const std::vector<std::pair<std::string, eval::Robustnes
 std::vector<double> minTranslationGamma(const Trajectory& traj, const eval::FrameLog& log,
                                         double tolerance);
 
+/// Half the median step of increasing times `ts` [s] (0.05 with fewer than two): the span drawn
+/// for one frame on a timeline.
+double halfFramePeriod(const std::vector<double>& ts);
+
 /// Writes text to a file; throws std::runtime_error naming the file on failure.
 void writeTextFile(const std::string& path, const std::string& text);
 

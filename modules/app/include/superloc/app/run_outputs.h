@@ -3,6 +3,7 @@
 //   frames.csv      one localization::FrameReport per line (flushed per line), header below
 //   summary.json    counts and timing statistics (at the end)
 //   localized_map.pcd  every scan's points at its estimate, voxelized (at the end)
+//   report.html     the run at a glance (run_report.h; at the end, unless switched off)
 #pragma once
 
 #include <superloc/core/types.h>
@@ -10,9 +11,11 @@
 #include <superloc/io/json_file.h>
 #include <superloc/io/rawlog.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/app/run_report.h>
 
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <array>
 #include <string>
 #include <unordered_set>
@@ -66,14 +69,16 @@ io::Json summaryJson(const RunSummary& s);
 class RunOutputs {
    public:
     /// Creates DIR (and parents) and opens trajectory.tum and frames.csv. Throws
-    /// std::runtime_error naming the path when it cannot.
-    RunOutputs(const std::string& dir, double map_voxel);
+    /// std::runtime_error naming the path when it cannot. `report`: also write report.html.
+    RunOutputs(const std::string& dir, double map_voxel, bool report = false);
     ~RunOutputs();
 
     void addFrame(const localization::FrameReport& r, const SE3d& T_written, const std::vector<Vec3f>& map_points);
-    /// Writes summary.json and localized_map.pcd.
+    /// Writes summary.json and localized_map.pcd, and report.html when asked for.
     void finish(const RunSummary& s);
     const std::string& dir() const { return dir_; }
+    /// The report's data (its map, its inputs); nullptr when no report is written.
+    RunReport* report() { return report_ ? &*report_ : nullptr; }
 
    private:
     std::string dir_;
@@ -82,6 +87,7 @@ class RunOutputs {
     float voxel_;
     std::unordered_set<VoxelKey, VoxelKeyHash> occupied_;
     std::vector<Vec3f> map_;
+    std::optional<RunReport> report_;
 };
 
 }  // namespace superloc::app
