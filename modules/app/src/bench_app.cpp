@@ -84,6 +84,9 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.add_option("--sequences", f.only_seq, "run only these sequences of the suite")->type_name("\"a b\"");
     cli.add_option("--methods", f.only_meth, "run only these methods of the suite")->type_name("\"m1 m2\"");
     cli.add_flag("--fresh", app.fresh, "regenerate simulated/imported data even if present");
+    cli.add_flag("--drop-data", app.drop_data,
+                 "delete a sequence's rawlog and maps once all its runs are evaluated (a big suite's\n"
+                 "simulated data take ~1.4 GB per 150 s sequence; its GT trajectory stays)");
     cli.add_option("--localize-set", f.localize_sets,
                    "one more --set for every superloc-localize run (after the suite's [suite] keys), e.g.\n"
                    "--localize-set localization.association=voxel (repeatable)")
@@ -331,6 +334,12 @@ int BenchApp::run(std::ostream& log) {
             if (const auto& r = seqs[i].runs[k]; r && r->result)
                 rp.emplace_back(r->method, r->result->rp), rr.emplace_back(r->method, r->result->rr);
         const std::string& name = suite.sequences[i].name;
+        if (drop_data) {
+            std::error_code ec;
+            for (const auto* f : {&seqs[i].files.rawlog, &seqs[i].files.gt_map, &seqs[i].files.prior_map})
+                fs::remove(*f, ec);
+            seqs[i].gt_map = PointCloud{};
+        }
         if (!rp.empty()) {
             writePlot(name + "_f1_trans.svg", f1CurvesSvg(rp, false, name + ": F1 (translation RPE)"),
                       seqs[i].f1_plots);

@@ -3,7 +3,7 @@
 // DIR/results.md, DIR/results.json and DIR/*.svg.
 //
 //   superloc-bench SUITE.ini --out DIR [--data DIR] [--tools DIR] [--sequences "a b"]
-//                  [--methods "m1 m2"] [--fresh] [--jobs N]
+//                  [--methods "m1 m2"] [--fresh] [--drop-data] [--jobs N]
 // With --jobs N, up to N children (a sequence's preparation, or one localize run and its
 // evaluation) run at once; a sequence's runs start once its data is ready. The results are
 // those of --jobs 1, in the same order; only the measured times differ (the runs share cores).
@@ -33,6 +33,7 @@ class BenchApp {
     SuiteSpec suite;
     std::string out_dir, data_dir, tools_dir;
     bool fresh = false, help = false;
+    bool drop_data = false;  ///< --drop-data: delete a sequence's rawlog and maps after its runs
     unsigned jobs = 0;               ///< children at once (--jobs); 0: one per available core
     std::vector<RunRecord> runs;     ///< filled by run(), sequence by sequence, methods in order
     std::vector<std::string> plots;  ///< SVG files written (relative to out_dir)
