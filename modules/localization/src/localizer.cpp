@@ -45,7 +45,8 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       health_(params.health),
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
-      g_map_(0, 0, -params.imu.gravity) {
+      g_map_(0, 0, -params.imu.gravity),
+      est_info_(std::pow(std::sin(params.risk.normal_noise_deg * kDeg), 2), params.risk.weak_sigma_xyz) {
     assoc_.max_dist = params.loc.max_corr_dist;
     assoc_.voxel = params.loc.association == "voxel";
     assoc_.nearest_above_thickness = assoc_.voxel ? params.loc.voxel_nearest_above : 0.0;
