@@ -70,7 +70,7 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
         for (int i = 0; i < 3; ++i) {
             const double var = std::max(0.0, eg.eigenvalues()[i]);
             const double lim = weak_sigma[3 * g];
-            w[i] = var > lim * lim ? 1.0 - lim * lim / var : 0.0;
+            w[i] = var / (var + lim * lim);
         }
         out.G.block<3, 3>(3 * g, 3 * g) =
             eg.eigenvectors() * w.cwiseSqrt().asDiagonal() * eg.eigenvectors().transpose();

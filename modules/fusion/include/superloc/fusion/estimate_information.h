@@ -32,13 +32,15 @@ namespace superloc::fusion {
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share);
 
 /// Where an estimate of information `info` is weak: per group, the eigen-directions u_i of its
-/// covariance with std sigma_i above `weak_sigma` (translation, rotation) get the share
-/// w_i = 1 - (weak / sigma_i)^2 (0 up to the weak std, 1 where nothing holds the direction).
+/// covariance, with std sigma_i, get the share w_i = sigma_i^2 / (sigma_i^2 + weak^2) (`weak_sigma`:
+/// translation, rotation): the paper's 1 - gamma with gamma the estimate's confidence along
+/// u_i, sigma_weak^2 / (sigma_weak^2 + sigma_i^2): ~0 where the estimate is sure, 1/2 at the
+/// weak std, -> 1 where nothing holds u_i.
 struct Weakness {
     /// Per group U diag(sqrt(w)) U^T: a prior of information W on the body axes, applied along
     /// the weak directions only, is G W G.
     Mat6d G = Mat6d::Zero();
-    /// Body axis k is weak when (G G)_kk >= 0.5: at least half of it lies in weak directions.
+    /// Body axis k is weak when (G G)_kk >= 0.5: its share of weak directions is at least half.
     std::array<bool, 6> weak{};
     /// Std per axis [m, rad] over the information's eigen-directions that make at least 5 % of
     /// the axis (the marginal, without a near-unheld direction's small component on it), capped
