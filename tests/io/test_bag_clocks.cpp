@@ -8,6 +8,7 @@
 #include <superloc_testing/testing.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 namespace {
@@ -231,4 +232,36 @@ TEST(BagClocks, EmptyFrameIdIsAMissingTransformNamingTheTopic) {
         importRosbag(bag, p, bag + ".rawlog");
         EXPECT_TRUE(readBack(bag + ".rawlog").scans.at(0).T_imu_lidar.isApprox(T_imu_lidar, 1e-9));
     }
+}
+
+// A driver that leaves header.stamp unset but gives every point its absolute time (float64
+// `timestamp`, on the recorder's clock, the sweep ending 50 ms before the scan is recorded): on
+// the record time, the point times are read as absolute and kept relative to the scan's time.
+TEST(BagClocks, AbsolutePointTimesOfAnUnsetStampAreReadAgainstTheRecordTime) {
+    const auto dir = superloc::testing::freshDir("bag_clocks_abs");
+    const int64_t rec_ns = kRecT0 + 60000000;
+    bw::Cloud c = bw::recordedCloud(0, {0, 0}, "lidar");
+    c.point_step = 24;
+    c.row_step = c.width * 24;
+    c.fields.back() = {"timestamp", 16, 8, 1};
+    std::vector<uint8_t> data(c.width * 24);
+    for (size_t i = 0; i < c.width; ++i) {
+        std::memcpy(&data[i * 24], &c.data[i * 20], 16);
+        const double t = double(rec_ns) * 1e-9 - 0.15 + 1e-3 * double(i);
+        std::memcpy(&data[i * 24 + 16], &t, 8);
+    }
+    c.data = data;
+    const std::string bag = dir + "/abs.mcap";
+    bw::writeMcap(bag, {{"/points", "sensor_msgs/msg/PointCloud2", rec_ns, bw::cdr(c)}});
+    RosbagParams p;
+    p.lidar_extrinsic = "0 0 0 0 0 0 1";
+    const auto r = importRosbag(bag, p, bag + ".rawlog");
+    EXPECT_EQ(r.timed_scans, 1u);
+    EXPECT_EQ(r.time_field, "timestamp");
+    const auto s = readBack(bag + ".rawlog").scans;
+    ASSERT_EQ(s.size(), 1u);
+    EXPECT_NEAR(s[0].t - kT0, 0.06, 1e-6);
+    ASSERT_EQ(s[0].rel_time.size(), c.width);
+    for (size_t i = 0; i < c.width; i += 33)
+        EXPECT_NEAR(s[0].rel_time[i], -0.15 + 1e-3 * double(i), 1e-6) << i;
 }

@@ -279,9 +279,10 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
             const double t = clock.stamp(pc.header.stamp, m.bagTime());
             if (!mono.accept(topic, t)) return true;
             ex.flushUntil(w, t);
-            // Per-point times are relative to header.stamp or absolute near it; with the stamp
-            // unset, near the record time. The scan keeps them relative to its own time `t`.
-            if (pc.header.stamp == 0) pc.cloud.stamp = m.bagTime();
+            // Per-point times are relative to header.stamp or absolute near it; a scan on the
+            // record time with the stamp unset reads them against the record time. The scan
+            // keeps them relative to its own time `t`.
+            if (clock.recordTime() && pc.header.stamp == 0) pc.cloud.stamp = m.bagTime();
             Scan s;
             PointCloud2Stats st;
             try {

@@ -85,8 +85,9 @@ std::vector<BagTopic> listRosbag(const std::string& bag);
 /// topic) on a missing, truncated or unreadable bag, a missing or wrongly typed topic, a
 /// PointCloud2 without x/y/z, an unresolvable extrinsic (including an empty frame_id where a
 /// transform is needed), or LiDAR and IMU / odom_alt / gt clocks that do not agree ([rosbag]
-/// max_clock_offset), the last three before anything is written. A message whose stamp does not increase on its
-/// topic is skipped and counted (RosbagImportResult::non_monotonic).
+/// max_clock_offset); the clock check and the LiDAR/IMU frames come before anything is
+/// written. A message whose stamp does not increase on its topic is skipped and counted
+/// (RosbagImportResult::non_monotonic).
 RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& params,
                                 const std::string& out_rawlog, const ProgressFn& progress = {},
                                 const ImportExtras& extras = {});
