@@ -2,6 +2,7 @@
 #include <superloc/io/rawlog.h>
 #include <superloc/io/tum.h>
 #include <superloc_testing/bag_writers.h>
+#include <superloc_testing/recorded_bag.h>
 #include <superloc_testing/testing.h>
 #include <sys/wait.h>
 
@@ -95,6 +96,75 @@ TEST(SuperlocImportExe, RosbagListImportAndErrors) {
         EXPECT_NE(e.code, 0) << args;
         EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << args << ": " << e.err;
     }
+}
+#endif
+
+#ifdef SUPERLOC_HAVE_ROS1
+// The ROS 1 bag of issue 29, tried as a new user would: 412 PointCloud2 scans with
+// header.stamp = 0 and an empty frame_id, an IMU whose header clock is 3 days from the record
+// time. Each run names what is wrong in one line, and the keys it names make the import work.
+TEST(SuperlocImportExe, RosbagWithUnsetStampsOtherClocksAndNoFrame) {
+    if (!std::filesystem::exists(kExe)) GTEST_SKIP() << "superloc-import not built: " << kExe;
+    namespace bw = superloc::testing::bag;
+    const auto dir = superloc::testing::freshDir("import_exe_robot_bag");
+    const std::string bag = dir + "/robot.bag", out = " --out " + dir + "/r.rawlog";
+    bw::Recording rec;
+    rec.scans = 412;
+    rec.lidar_stamps = false;
+    rec.lidar_frame = "";
+    rec.imu_clock_offset_ns = -259200LL * 1000000000LL;
+    bw::writeRos1Recording(bag, rec);
+    const auto expectOneLineError = [&](const std::string& args, const std::string& part) {
+        const ExeResult e = runExe("--rosbag " + bag + " " + args + out, dir);
+        EXPECT_EQ(e.code, 1) << args;
+        EXPECT_EQ(std::count(e.err.begin(), e.err.end(), '\n'), 1) << args << ": " << e.err;
+        EXPECT_EQ(e.err.rfind("superloc-import: " + bag + ": ", 0), 0u) << e.err;
+        EXPECT_NE(e.err.find(part), std::string::npos) << e.err;
+        EXPECT_FALSE(std::filesystem::exists(dir + "/r.rawlog")) << args;
+    };
+    // stamp_source = auto: the scans on the record time, the IMU on its own clock.
+    expectOneLineError("", "topic '/points' (record time, 1700000000.060 to 1700000041.160 s) and "
+                           "topic '/imu' (header.stamp, 1699740799.950 to 1699740841.250 s) do "
+                           "not overlap and their clocks differ by 259200.002 s");
+    // Both on the record time: next, the LiDAR's frame.
+    expectOneLineError("--set rosbag.stamp_source=record",
+                       "topic '/points': empty header.frame_id, so no static transform from "
+                       "'imu_link' to the LiDAR can be looked up (set [rosbag] lidar_extrinsic)");
+    const ExeResult ok = runExe("--rosbag " + bag +
+                                    " --set rosbag.stamp_source=record"
+                                    " --set 'rosbag.lidar_extrinsic=0.1 0 0.2 0 0 0 1'" + out,
+                                dir);
+    ASSERT_EQ(ok.code, 0) << ok.err;
+    EXPECT_EQ(ok.err, "");
+    EXPECT_NE(ok.out.find("412 scans (/points, 412 with per-point time 't'), 41200 points, 4131 imu"),
+              std::string::npos) << ok.out;
+    // The LiDAR alone under auto: every scan, and one notice saying why.
+    const ExeResult lidar = runExe("--rosbag " + bag + " --set rosbag.imu_topic=none" + out, dir);
+    ASSERT_EQ(lidar.code, 0) << lidar.err;
+    EXPECT_NE(lidar.out.find("412 scans"), std::string::npos) << lidar.out;
+    EXPECT_EQ(lidar.err, "superloc-import: notice: " + bag +
+                             ": topic '/points': header.stamp is 0 on 412 of 412 messages: stamped "
+                             "with the bag's record time instead ([rosbag] stamp_source = auto; "
+                             "header keeps header.stamp)\n");
+    // The keys are in --dump-config, and checked.
+    const ExeResult dump = runExe("--dump-config", dir);
+    EXPECT_NE(dump.out.find("stamp_source                                       =  auto"),
+              std::string::npos) << dump.out;
+    EXPECT_NE(dump.out.find("max_clock_offset                                   =  1.0"),
+              std::string::npos) << dump.out;
+    const ExeResult bad = runExe("--rosbag " + bag + " --set rosbag.stamp_source=frame" + out, dir);
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_EQ(bad.err, "superloc-import: [rosbag] stamp_source must be auto, header or record, "
+                       "not 'frame'\n");
+    // stamp_source = header: what the import did before, 1 of 412 scans and a warning.
+    const ExeResult header =
+        runExe("--rosbag " + bag + " --set rosbag.imu_topic=none --set rosbag.stamp_source=header" +
+                   out, dir);
+    ASSERT_EQ(header.code, 0) << header.err;
+    EXPECT_NE(header.out.find(": 1 scans"), std::string::npos) << header.out;
+    EXPECT_EQ(header.err, "superloc-import: warning: " + bag +
+                              ": topic '/points': 411 messages skipped (header.stamp did not "
+                              "increase)\n");
 }
 #endif
 

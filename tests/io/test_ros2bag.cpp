@@ -494,7 +494,8 @@ TEST(Ros2Bag, BadInputIsOneLineNamingFileAndTopic) {
     bw::writeDb3(dir + "/xcdr2.db3", msgs);
     expectError(dir + "/xcdr2.db3", roundTripParams(), {"topic '/imu'", "not plain CDR"});
 
-    // Non-monotonic stamps: the repeated/backward scan is skipped and counted.
+    // Non-monotonic stamps: with stamp_source = header the repeated/backward scan is skipped and
+    // counted; auto stamps the topic with the receive time instead (2 of 5 do not increase).
     msgs.clear();
     const auto scan = roundTripMessages();
     const bw::Message* pc = nullptr;
@@ -512,11 +513,18 @@ TEST(Ros2Bag, BadInputIsOneLineNamingFileAndTopic) {
     for (const auto& f : {dir + "/back.db3", dir + "/back.mcap"}) {
         RosbagParams p;
         p.lidar_extrinsic = "0 0 0 0 0 0 1";
+        p.stamp_source = "header";
         const auto r = importRosbag(f, p, dir + "/back.rawlog");
         EXPECT_EQ(r.scans, 3u) << f;
         ASSERT_EQ(r.non_monotonic.size(), 1u) << f;
         EXPECT_EQ(r.non_monotonic[0].first, "/points");
         EXPECT_EQ(r.non_monotonic[0].second, 2u);
+        p.stamp_source = "auto";
+        const auto ra = importRosbag(f, p, dir + "/back.rawlog");
+        EXPECT_EQ(ra.scans, 5u) << f;
+        EXPECT_TRUE(ra.non_monotonic.empty()) << f;
+        ASSERT_EQ(ra.stamps.size(), 1u);
+        EXPECT_EQ(ra.stamps[0].reason, "header.stamp does not increase on 2 of 5 messages");
     }
 
     // Not a bag at all, and a missing file.

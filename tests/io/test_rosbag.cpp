@@ -354,7 +354,8 @@ TEST(Rosbag, BadInputIsOneLineNamingFileAndTopic) {
     EXPECT_NE(e.find("without x, y and z"), std::string::npos) << e;
     EXPECT_TRUE(oneLine(e));
 
-    // Non-monotonic stamps: the repeated/backward scan is skipped and counted.
+    // Non-monotonic stamps: with stamp_source = header the repeated/backward scan is skipped and
+    // counted; auto stamps the topic with the record time instead (2 of 5 do not increase).
     {
         rosbag::Bag b(dir + "/backwards.bag", rosbag::bagmode::Write);
         int k = 0;  // bag (receive) time increases, header.stamp does not
@@ -362,11 +363,18 @@ TEST(Rosbag, BadInputIsOneLineNamingFileAndTopic) {
             b.write("/points", rosTime(10 + k++), cloud(t, 10, "lidar"));
         b.close();
     }
-    const auto r = importRosbag(dir + "/backwards.bag", {}, dir + "/back.rawlog");
+    RosbagParams hp;
+    hp.stamp_source = "header";
+    const auto r = importRosbag(dir + "/backwards.bag", hp, dir + "/back.rawlog");
     EXPECT_EQ(r.scans, 3u);
     ASSERT_EQ(r.non_monotonic.size(), 1u);
     EXPECT_EQ(r.non_monotonic[0].first, "/points");
     EXPECT_EQ(r.non_monotonic[0].second, 2u);
+    const auto ra = importRosbag(dir + "/backwards.bag", {}, dir + "/back.rawlog");
+    EXPECT_EQ(ra.scans, 5u);
+    EXPECT_TRUE(ra.non_monotonic.empty());
+    ASSERT_EQ(ra.stamps.size(), 1u);
+    EXPECT_EQ(ra.stamps[0].reason, "header.stamp does not increase on 2 of 5 messages");
 }
 
 #endif  // SUPERLOC_HAVE_ROS1

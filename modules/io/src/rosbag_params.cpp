@@ -26,10 +26,12 @@ void RosbagParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
     MRPT_LOAD_CONFIG_VAR(point_time_unit, string, c, s);
     MRPT_LOAD_CONFIG_VAR(point_time_reference, string, c, s);
     MRPT_LOAD_CONFIG_VAR(intensity_max, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(stamp_source, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_clock_offset, double, c, s);
     for (std::string* v : {&lidar_topic, &imu_topic, &odom_alt_topic, &gt_topic, &tf_static_topic,
                            &lidar_label, &imu_label, &odom_alt_label, &gt_label, &body_frame,
                            &lidar_extrinsic, &gt_child_frame, &point_time_field, &point_time_unit,
-                           &point_time_reference})
+                           &point_time_reference, &stamp_source})
         *v = stripIniValue(*v);
 }
 
@@ -52,6 +54,11 @@ void RosbagParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_time_unit, "auto (float: s, integer: ns), s, ms, us, ns");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_time_reference, "auto, relative (to stamp), absolute");
     MRPT_SAVE_CONFIG_VAR_COMMENT(intensity_max, "intensity stored as 255 in timed scans");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(stamp_source,
+                                 "auto (record time where header.stamp is 0 / not increasing), "
+                                 "header, record");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_clock_offset,
+                                 "[s] max LiDAR vs IMU/odom/gt clock offset (0 = no check)");
 }
 
 void RosbagParams::validate() const {
@@ -66,6 +73,11 @@ void RosbagParams::validate() const {
     if (!oneOf(point_time_reference, {"auto", "relative", "absolute"}))
         throw ConfigError("[rosbag] point_time_reference must be auto, relative or absolute, not '" +
                           point_time_reference + "'");
+    if (!oneOf(stamp_source, {"auto", "header", "record"}))
+        throw ConfigError("[rosbag] stamp_source must be auto, header or record, not '" +
+                          stamp_source + "'");
+    if (!(max_clock_offset >= 0) || !std::isfinite(max_clock_offset))
+        throw ConfigError("[rosbag] max_clock_offset must be >= 0 s (0 = no check)");
     if (!(intensity_max > 0) || !std::isfinite(intensity_max))
         throw ConfigError("[rosbag] intensity_max must be > 0");
     if (point_time_field.empty())

@@ -119,9 +119,18 @@ int runRosbag(const Args& a, const io::RosbagParams& params,
     extras.imu_label = params.imu_label;
     extras.odom_alt_label = params.odom_alt_label;
     const auto r = io::importRosbag(a.rosbag, params, a.out, bar, extras);
-    for (const auto& [topic, n] : r.non_monotonic)
+    for (const auto& s : r.stamps)
+        if (!s.reason.empty())
+            std::cerr << "superloc-import: notice: " << a.rosbag << ": topic '" << s.topic
+                      << "': " << s.reason << ": stamped with the bag's record time instead "
+                      << "([rosbag] stamp_source = auto; header keeps header.stamp)\n";
+    for (const auto& [topic, n] : r.non_monotonic) {
+        bool record = false;
+        for (const auto& s : r.stamps) record = record || (s.topic == topic && s.record_time);
         std::cerr << "superloc-import: warning: " << a.rosbag << ": topic '" << topic << "': " << n
-                  << " messages skipped (header.stamp did not increase)\n";
+                  << " messages skipped (" << (record ? "record time" : "header.stamp")
+                  << " did not increase)\n";
+    }
     if (!a.quiet)
         std::cout << a.out << ": " << r.scans << " scans (" << r.lidar_topic << ", "
                   << r.timed_scans << " with per-point time"

@@ -1,7 +1,9 @@
 // Bag -> rawlog, shared by the ROS 1 (.bag), ROS 2 (.db3) and MCAP readers: topic resolution
 // ([rosbag] section), the static transform tree, and the message -> observation conversion. Two
-// passes: the static transforms and the LiDAR/IMU frames first (they may be recorded after the
-// first scans), then every mapped topic in bag order, each message stamped with its header.stamp.
+// passes: first the static transforms (they may be recorded after the first scans) and every
+// mapped message's header (frames, stamps, record times: the clock of each topic and the check
+// that the clocks agree, bag_clocks.h), all before anything is written; then every mapped topic
+// in bag order, each message stamped on its topic's clock.
 #include <superloc/core/se3.h>
 #include <superloc/io/rawlog.h>
 
@@ -13,6 +15,7 @@
 #include <utility>
 
 #include "../extras_writer.h"
+#include "bag_clocks.h"
 #include "bag_source.h"
 
 namespace superloc::io::detail {
@@ -127,6 +130,16 @@ class Monotonic {
     std::map<std::string, size_t> skipped_;
 };
 
+/// The header of a PointCloud2, Imu, Odometry or PoseStamped message.
+MsgHeader headerOf(const BagMessage& m, const std::string& bag) {
+    const std::string type = canonicalType(m.type());
+    return decode(m, bag, [&] {
+        if (type == kPointCloud2) return m.pointCloud2().header;
+        if (type == kImu) return m.imu().header;
+        return type == kPoseStamped ? m.poseStamped().header : m.odometry().header;
+    });
+}
+
 SE3d parseExtrinsic(const std::string& s) {
     std::istringstream ss(s);
     double v[7];
@@ -165,25 +178,45 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     if (topics.all.count(p.tf_static_topic))
         tf_topic = topics.resolve(bag, "tf_static_topic", p.tf_static_topic, {kTfMessage});
 
-    // Pass 1: static transforms, and the frames of the LiDAR and IMU.
+    // Pass 1: static transforms, and the header and record time of every mapped message.
+    std::vector<std::string> wanted{r.lidar_topic};
+    for (const std::string* t : {&std::as_const(r.imu_topic), &odom_topic, &gt_topic})
+        if (!t->empty()) wanted.push_back(*t);
+    std::map<std::string, TopicClock> clocks;
+    std::map<std::string, std::string> frame_of;  // header.frame_id of a topic's first message
+    for (const auto& t : wanted) clocks.emplace(t, TopicClock(t));
     StaticTf tf;
-    if (!tf_topic.empty())
-        b.forEach({tf_topic}, [&](const BagMessage& m) {
+    std::vector<std::string> pass1 = wanted;
+    if (!tf_topic.empty()) pass1.push_back(tf_topic);
+    b.forEach(pass1, [&](const BagMessage& m) {
+        if (m.topic() == tf_topic) {
             for (const auto& x : decode(m, bag, [&] { return m.tfMessage(); }))
                 tf.add(x.parent, x.child, toSE3(x.T_parent_child));
             return true;
-        });
-    const auto firstFrame = [&](const std::string& topic, bool lidar) {
-        std::string frame;
-        b.forEach({topic}, [&](const BagMessage& m) {
-            frame = lidar ? decode(m, bag, [&] { return m.pointCloud2(); }).header.frame_id
-                          : decode(m, bag, [&] { return m.imu(); }).header.frame_id;
-            return false;
-        });
-        return frame;
-    };
-    const std::string lidar_frame = firstFrame(r.lidar_topic, true);
-    const std::string imu_frame = r.imu_topic.empty() ? "" : firstFrame(r.imu_topic, false);
+        }
+        const MsgHeader h = headerOf(m, bag);
+        TopicClock& c = clocks.at(m.topic());
+        if (c.messages() == 0) frame_of[m.topic()] = h.frame_id;
+        c.add(h.stamp, m.bagTime());
+        return true;
+    });
+    for (const auto& t : wanted) {
+        TopicClock& c = clocks.at(t);
+        c.decide(p.stamp_source);
+        r.stamps.push_back({t, c.recordTime(), c.reason()});
+        if (t != r.lidar_topic) checkClocks(bag, clocks.at(r.lidar_topic), c, p.max_clock_offset);
+    }
+
+    // Frames. An empty frame_id is an unknown frame: fine where no transform is needed (a body
+    // that is the LiDAR's own frame), an error naming the topic where one is, as a missing
+    // transform is.
+    const std::string lidar_frame = frame_of[r.lidar_topic];
+    const std::string imu_frame = r.imu_topic.empty() ? "" : frame_of[r.imu_topic];
+    if (!r.imu_topic.empty() && clocks.at(r.imu_topic).messages() > 0 && imu_frame.empty() &&
+        p.body_frame.empty())
+        throw std::runtime_error(bag + ": topic '" + r.imu_topic +
+                                 "': empty header.frame_id, so the body (IMU) frame is unknown "
+                                 "(set [rosbag] body_frame to the frame the IMU measures in)");
     const std::string body = !p.body_frame.empty() ? p.body_frame
                              : !imu_frame.empty()  ? imu_frame
                                                    : lidar_frame;
@@ -194,6 +227,10 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     SE3d T_body_lidar;
     if (!p.lidar_extrinsic.empty()) {
         T_body_lidar = parseExtrinsic(p.lidar_extrinsic);
+    } else if (lidar_frame.empty() && !body.empty()) {
+        throw std::runtime_error(bag + ": topic '" + r.lidar_topic +
+                                 "': empty header.frame_id, so no static transform from '" + body +
+                                 "' to the LiDAR can be looked up (set [rosbag] lidar_extrinsic)");
     } else if (auto T = tf.lookup(body, lidar_frame)) {
         T_body_lidar = *T;
     } else {
@@ -205,8 +242,14 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     const auto childTo = [&](const std::string& topic, const std::string& child, bool to_lidar) {
         const auto T_child_body = tf.lookup(child, body);
         if (T_child_body) return to_lidar ? SE3d(*T_child_body * T_body_lidar) : *T_child_body;
-        if (to_lidar)
+        if (to_lidar && !lidar_frame.empty())
             if (auto T = tf.lookup(child, lidar_frame)) return *T;
+        if (body.empty())  // the body is the LiDAR's frame, and its messages name none
+            throw std::runtime_error(bag + ": topic '" + topic +
+                                     "': no static transform from its child frame '" + child +
+                                     "' to the LiDAR: topic '" + r.lidar_topic +
+                                     "' has an empty header.frame_id (set [rosbag] body_frame "
+                                     "and lidar_extrinsic)");
         throw std::runtime_error(bag + ": topic '" + topic +
                                  "': no static transform from its "
                                  "child frame '" +
@@ -223,9 +266,6 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     };
 
     // Pass 2: every mapped topic in bag order.
-    std::vector<std::string> wanted{r.lidar_topic};
-    for (const std::string* t : {&std::as_const(r.imu_topic), &odom_topic, &gt_topic})
-        if (!t->empty()) wanted.push_back(*t);
     const size_t n_scans = topics.all.at(r.lidar_topic).messages;
     const PointTimeOptions topt{p.point_time_field, p.point_time_unit, p.point_time_reference};
     Monotonic mono;
@@ -233,15 +273,21 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
     ExtrasWriter ex(extras, r);
     b.forEach(wanted, [&](const BagMessage& m) {
         const std::string& topic = m.topic();
+        const TopicClock& clock = clocks.at(topic);
         if (topic == r.lidar_topic) {
-            const PointCloud2Msg pc = decode(m, bag, [&] { return m.pointCloud2(); });
-            const double t = pc.header.stamp;
+            PointCloud2Msg pc = decode(m, bag, [&] { return m.pointCloud2(); });
+            const double t = clock.stamp(pc.header.stamp, m.bagTime());
             if (!mono.accept(topic, t)) return true;
             ex.flushUntil(w, t);
+            // Per-point times are relative to header.stamp or absolute near it; a scan on the
+            // record time with the stamp unset reads them against the record time. The scan
+            // keeps them relative to its own time `t`.
+            if (clock.recordTime() && pc.header.stamp == 0) pc.cloud.stamp = m.bagTime();
             Scan s;
             PointCloud2Stats st;
             try {
                 st = decodePointCloud2(pc.cloud, topt, s);
+                s.t = t;
             } catch (const std::exception& e) {
                 throw std::runtime_error(bag + ": topic '" + topic + "': scan at " +
                                          std::to_string(t) + ": " + e.what());
@@ -262,7 +308,7 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
         } else if (topic == r.imu_topic) {
             const ImuMsg imu = decode(m, bag, [&] { return m.imu(); });
             ImuSample s;
-            s.t = imu.header.stamp;
+            s.t = clock.stamp(imu.header.stamp, m.bagTime());
             if (!mono.accept(topic, s.t)) return true;
             s.acc = imu.linear_acceleration;
             s.gyro = imu.angular_velocity;
@@ -275,7 +321,7 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
             const PoseMsg msg =
                 decode(m, bag, [&] { return stamped ? m.poseStamped() : m.odometry(); });
             PoseStamped ps;
-            ps.t = msg.header.stamp;
+            ps.t = clock.stamp(msg.header.stamp, m.bagTime());
             const SE3d T_parent_child = toSE3(msg.pose);
             std::string child;
             if (stamped)

@@ -39,6 +39,13 @@ struct RosbagParams : public mrpt::config::CLoadableOptions {
     std::string point_time_reference = "auto";  ///< auto, relative (to header.stamp), absolute
     /// Intensity that maps to 255 in timed scans (their carrier stores a byte; doc/io.md)
     double intensity_max = 255.0;
+    /// The time of each message: header (header.stamp), record (the bag's record / receive
+    /// time) or auto (per topic: the record time when header.stamp is 0 on any message or does
+    /// not increase on more than 1% of them, else header.stamp). doc/your-data.md, section 2.
+    std::string stamp_source = "auto";
+    /// [s] The LiDAR's clock and each other imported topic's (IMU, odom_alt, gt) must overlap
+    /// and lie within this of each other, measured against the bag's record time; 0 = no check.
+    double max_clock_offset = 1.0;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -51,23 +58,36 @@ struct BagTopic {
     size_t messages = 0;
 };
 
+/// How one imported topic was stamped ([rosbag] stamp_source).
+struct TopicStamps {
+    std::string topic;
+    bool record_time = false;  ///< stamped with the bag's record time, else with header.stamp
+    std::string reason;        ///< why stamp_source = auto chose the record time ("" if it did not)
+};
+
 /// What importRosbag() did, beyond ImportResult.
 struct RosbagImportResult : ImportResult {
     size_t timed_scans = 0;         ///< scans written with per-point time
     std::string lidar_topic, imu_topic;  ///< the topics used ("" = none)
     std::string time_field;         ///< per-point time field of the first timed scan
-    /// Messages skipped because their header.stamp did not increase on their topic, by topic
+    /// Messages skipped because their stamp (TopicStamps) did not increase on their topic
     std::vector<std::pair<std::string, size_t>> non_monotonic;
+    /// The clock of every imported topic (LiDAR, IMU, odom_alt, gt, those imported)
+    std::vector<TopicStamps> stamps;
 };
 
 /// The topics of a bag, sorted by name. Throws std::runtime_error "<bag>: <reason>".
 std::vector<BagTopic> listRosbag(const std::string& bag);
 
-/// Imports a ROS 1 bag into an observations-only rawlog (doc/io.md). Times are the messages'
-/// header.stamp. Throws std::runtime_error with one line naming the bag (and topic) on a missing,
-/// truncated or unreadable bag, a missing or wrongly typed topic, a PointCloud2 without x/y/z or
-/// an unresolvable extrinsic. A message whose stamp does not increase on its topic is skipped and
-/// counted (RosbagImportResult::non_monotonic).
+/// Imports a ROS 1 or ROS 2 bag into an observations-only rawlog (doc/io.md). Times are the
+/// messages' header.stamp or the bag's record time ([rosbag] stamp_source; which one per topic in
+/// RosbagImportResult::stamps). Throws std::runtime_error with one line naming the bag (and
+/// topic) on a missing, truncated or unreadable bag, a missing or wrongly typed topic, a
+/// PointCloud2 without x/y/z, an unresolvable extrinsic (including an empty frame_id where a
+/// transform is needed), or LiDAR and IMU / odom_alt / gt clocks that do not agree ([rosbag]
+/// max_clock_offset); the clock check and the LiDAR/IMU frames come before anything is
+/// written. A message whose stamp does not increase on its topic is skipped and counted
+/// (RosbagImportResult::non_monotonic).
 RosbagImportResult importRosbag(const std::string& bag, const RosbagParams& params,
                                 const std::string& out_rawlog, const ProgressFn& progress = {},
                                 const ImportExtras& extras = {});
