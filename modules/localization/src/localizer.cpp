@@ -45,7 +45,8 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       health_(params.health),
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
-      g_map_(0, 0, -params.imu.gravity) {
+      g_map_(0, 0, -params.imu.gravity),
+      preproc_(params.features) {
     assoc_.max_dist = params.loc.max_corr_dist;
     assoc_.voxel = params.loc.association == "voxel";
     assoc_.nearest_above_thickness = assoc_.voxel ? params.loc.voxel_nearest_above : 0.0;
@@ -101,87 +102,9 @@ Localizer::~Localizer() = default;
 
 void Localizer::setInitialPose(const SE3d& T_map_lidar) { initial_T_map_lidar_ = T_map_lidar; }
 
-void Localizer::addImu(const ImuSample& s) {
-    if (!imu_.empty() && s.t <= imu_.back().t) return;  // duplicates / out of order: ignored
-    imu_.push_back(s);
-}
+void Localizer::addImu(const ImuSample& s) { sensors_.addImu(s); }
 
-void Localizer::addOdomAlt(const PoseStamped& p) {
-    if (!odom_alt_.empty() && p.t <= odom_alt_.back().t) return;
-    odom_alt_.push_back(p);
-}
-
-Localizer::Prediction Localizer::predict(double t, imu::Preintegration& pre) {
-    Prediction pr;
-    const bool imu_covers = params_.loc.use_imu && imu::coversInterval(imu_, prev_.t, t, 0.05);
-    if (imu_covers && imu::integrateInterval(imu_, prev_.t, t, pre) > 0) {
-        // Step 1 with IMU: Forster eq. 33 from the previous state.
-        const imu::NavState nav = pre.predict(prev_.nav(), prev_.bias(), g_map_);
-        pr.T_map_imu = nav.pose();
-        pr.v = nav.v;
-        pr.used_imu = true;
-        pr.twist_from_imu = true;
-        // Deskew twist: mean rate over the interval since the last scan (one sweep at the
-        // sensor's rate), velocity in the body frame.
-        pr.w_body = logSO3(pre.correctedDeltaR(prev_.bias())) / pre.dt();
-        pr.v_body = nav.R.transpose() * nav.v;
-        return pr;
-    }
-    // Step 1 without IMU: constant velocity from the last two estimates.
-    const SE3d T_prev = prev_.T_map_imu();
-    pr.T_map_imu = T_prev;
-    if (prev_prev_ && prev_.t > prev_prev_->t) {
-        const double dt_prev = prev_.t - prev_prev_->t;
-        const Vec6d xi = toVec6(prev_prev_->T_map_imu().inverse() * T_prev) / dt_prev;  // body twist
-        pr.T_map_imu = T_prev * fromVec6(xi * (t - prev_.t));
-        pr.v_body = xi.head<3>();
-        pr.w_body = xi.tail<3>();
-        pr.v = T_prev.linear() * pr.v_body;
-    }
-    return pr;
-}
-
-void Localizer::preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep) {
-    const auto& fp = params_.features;
-    rep.points_raw = scan.size();
-    // Step 2: NaN/range filter, one candidate per voxel, features spread evenly over the sweep.
-    selector_.selectInRange(scan.points, static_cast<float>(fp.min_range), static_cast<float>(fp.max_range),
-                            static_cast<float>(fp.voxel_size), valid_, candidates_);
-    features::takeEvenly(candidates_, static_cast<size_t>(fp.max_features), feature_idx_);
-    rep.points_valid = valid_.size();
-    rep.candidates = candidates_.size();
-    rep.features = feature_idx_.size();
-
-    // Deskew to the scan time with the predicted twist, seen from the LiDAR (DESIGN §3).
-    features::SweepMotion motion;
-    if (fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
-        !scan.empty()) {
-        const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
-        if (s_min < 0) {
-            if (fp.deskew_imu_poses && pred.used_imu) {
-                // Along the IMU's trajectory from the previous state (its last pose is this
-                // frame's prediction).
-                const auto sp = imu::sweepPoses(imu_, prev_.t, prev_.nav(), prev_.bias(), g_map_, scan.t, s_min,
-                                                scan.T_imu_lidar);
-                motion = features::SweepMotion::fromSamples(sp.s, sp.T_end_s);
-            } else {
-                const Mat3d R_il = scan.T_imu_lidar.linear();
-                const Vec3d w_l = R_il.transpose() * pred.w_body;
-                const Vec3d v_l =
-                    R_il.transpose() * (pred.v_body + pred.w_body.cross(scan.T_imu_lidar.translation()));
-                motion = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
-            }
-            rep.deskewed = true;
-        }
-    }
-    features::deskewPoints(scan.points, scan.rel_time, feature_idx_, motion, deskewed_);
-    pts_body_.resize(deskewed_.size());
-    for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
-
-    // NDT registers every voxel candidate, as hdl_localization feeds it a voxelized scan.
-    if (variant_.registration == Registration::Ndt) features::deskewPoints(scan.points, scan.rel_time, candidates_, motion, ndt_source_);
-    last_motion_ = motion;
-}
+void Localizer::addOdomAlt(const PoseStamped& p) { sensors_.addOdomAlt(p); }
 
 void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, Solve kind) {
     const auto& lp = params_.loc;
@@ -246,7 +169,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         const bool finest = voxel ? level == 0 : radius <= lp.max_corr_dist;
         const SE3d T_before = cur_.T_map_imu();
         auto t0 = Clock::now();
-        associate(pts_body_, T_before, *map_, ap, corr_, last_stats_);
+        associate(features_.pts_body, T_before, *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
         if (r == 0 || (voxel && level == 0 && in_stage == 0 && wide)) {
             // Step 4: alignment risk before the optimisation at this resolution (DESIGN §5): at the
@@ -354,7 +277,7 @@ void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport&
         AssociationParams ap = assoc_;
         ap.voxel = voxel;
         const auto t0 = Clock::now();
-        associate(pts_body_, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
+        associate(features_.pts_body, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();
@@ -364,7 +287,7 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
     // The registration step is PCL's NDT from the predicted pose; everything else is shared.
     // The alignment risk is reported for ndt too (not used): correspondences at the prediction.
     auto ta = Clock::now();
-    associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+    associate(features_.pts_body, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
     rep.ms.associate += msSince(ta);
     ta = Clock::now();
     const auto risk =
@@ -373,7 +296,7 @@ void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre
     rep.ms.risk += msSince(ta);
     const auto t0 = Clock::now();
     const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
-    const AlignResult a = ndt_->align(ndt_source_, guess);
+    const AlignResult a = ndt_->align(features_.ndt_source, guess);
     rep.rounds = 1;
     rep.iterations = a.iterations;
     rep.converged = a.converged;
@@ -420,14 +343,14 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked,
     // a whole association round; NDT has none, so it associates once).
     if (variant_.registration == Registration::Ndt || rejected) {
         const auto t0 = Clock::now();
-        associate(pts_body_, T, *map_, assoc_, corr_, last_stats_);
+        associate(features_.pts_body, T, *map_, assoc_, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
     }
     rep.corr_plane = last_stats_.plane;
     rep.corr_line = last_stats_.line;
     rep.corr_point = last_stats_.point;
     rep.too_far = last_stats_.too_far;
-    const InlierStats in = inlierStats(corr_, pts_body_.size(), T, lp.inlier_dist);
+    const InlierStats in = inlierStats(corr_, features_.pts_body.size(), T, lp.inlier_dist);
     rep.inlier_ratio = in.ratio;
     rep.residual_rms = in.rms;
     if (jump) {
@@ -463,8 +386,8 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked,
 const std::vector<Vec3f>& Localizer::mapPoints(const Scan& scan, double voxel) {
     // The valid points of the last scan, voxel-selected, deskewed like its features, in the map
     // frame at its estimate.
-    map_selector_.select(scan.points, valid_, static_cast<float>(voxel), map_idx_);
-    features::deskewPoints(scan.points, scan.rel_time, map_idx_, last_motion_, map_points_);
+    map_selector_.select(scan.points, features_.valid, static_cast<float>(voxel), map_idx_);
+    features::deskewPoints(scan.points, scan.rel_time, map_idx_, features_.motion, map_points_);
     for (auto& p : map_points_) p = (last_T_map_lidar_ * p.cast<double>()).cast<float>();
     return map_points_;
 }
@@ -491,33 +414,17 @@ FrameReport Localizer::process(const Scan& scan) {
     imu::Preintegration pre(prev_.bias(), imu::ImuNoise{params_.imu.acc_noise, params_.imu.gyro_noise});
     Prediction pred;
     if (first) {
-        pred.T_map_imu = initial_T_map_lidar_.value_or(SE3d::Identity()) * scan.T_imu_lidar.inverse();
         imu::ImuBias b;
-        if (params_.loc.use_imu && !imu_.empty()) {
-            const auto rest = imu::initAtRest(imu_, imu_.front().t, params_.imu);
-            if (rest.at_rest) {
-                b = rest.bias;
-                pred.at_rest = true;
-                MRPT_LOG_INFO_FMT("IMU at rest: gyro bias %.4f %.4f %.4f rad/s, tilt vs initial pose %.2f deg",
-                                  b.gyro.x(), b.gyro.y(), b.gyro.z(),
-                                  imu::tiltDisagreement(rest, pred.T_map_imu.linear()) / kDeg);
-            }
-        }
+        std::optional<double> tilt_deg;
+        pred = predictFirst(scan, initial_T_map_lidar_.value_or(SE3d::Identity()) * scan.T_imu_lidar.inverse(), sensors_,
+                            params_.loc.use_imu, params_.imu, b, tilt_deg);
+        if (tilt_deg)
+            MRPT_LOG_INFO_FMT("IMU at rest: gyro bias %.4f %.4f %.4f rad/s, tilt vs initial pose %.2f deg", b.gyro.x(),
+                              b.gyro.y(), b.gyro.z(), *tilt_deg);
         cur_ = fusion::FrameState{};
         cur_.setBias(b);
-        // Deskew the first sweep by the gyro alone (the velocity is not known yet).
-        if (params_.loc.use_imu && !scan.rel_time.empty()) {
-            const double s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
-            imu::Preintegration sweep(b);
-            if (s_min < 0 && !imu_.empty() && imu_.front().t <= scan.t + s_min + 0.05 &&
-                imu_.back().t >= scan.t - 0.05 &&
-                imu::integrateInterval(imu_, scan.t + s_min, scan.t, sweep) > 0) {
-                pred.w_body = logSO3(sweep.deltaR()) / sweep.dt();
-                pred.twist_from_imu = true;
-            }
-        }
     } else {
-        pred = predict(scan.t, pre);
+        pred = predictMotion(prev_, prev_prev_, scan.t, sensors_, params_.loc.use_imu, g_map_, pre);
         cur_ = prev_;
         cur_.setVelocity(pred.v);
     }
@@ -529,7 +436,7 @@ FrameReport Localizer::process(const Scan& scan) {
 
     // Step 2: features.
     t0 = Clock::now();
-    preprocess(scan, pred, rep);
+    preproc_.run(scan, pred, prev_, sensors_, g_map_, variant_.registration == Registration::Ndt, features_, rep);
     rep.ms.preprocess = msSince(t0);
 
     // Steps 3-5: association, risk, solve.
@@ -601,7 +508,7 @@ FrameReport Localizer::process(const Scan& scan) {
     // Without IMU the next frame may need this scan to measure its motion (motionFromLastScan):
     // its candidates, deskewed like its features, at the frame's final pose; not a lost one's.
     if (!rep.used_imu && params_.loc.motion_from_last_scan && rep.health != Health::Lost && !rep.diverged) {
-        features::deskewPoints(scan.points, scan.rel_time, candidates_, last_motion_, last_scan_points_);
+        features::deskewPoints(scan.points, scan.rel_time, features_.candidates, features_.motion, last_scan_points_);
         for (auto& p : last_scan_points_) p = (rep.T_map_lidar * p.cast<double>()).cast<float>();
         last_scan_origin_ = rep.T_map_lidar.translation().cast<float>();
     } else {
@@ -622,7 +529,7 @@ FrameReport Localizer::process(const Scan& scan) {
         FusionFrame f;
         f.T_map_imu = cur_.T_map_imu();
         f.T_prev_map_imu = frame_prev.T_map_imu();
-        f.odom_delta = odomAltDelta(frame_prev.t, cur_.t);
+        f.odom_delta = sensors_.odomAltDelta(frame_prev.t, cur_.t);
         f.est = frame_est_;
         f.scan = frame_scan_;
         variant_.fusion->frameDone(f, rep);
@@ -630,13 +537,7 @@ FrameReport Localizer::process(const Scan& scan) {
     if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
         prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);
     have_prev_ = have_prev_ || !reloc_pending_;
-    // Keep one second of IMU before the last scan.
-    const auto keep = std::lower_bound(imu_.begin(), imu_.end(), scan.t - 1.0,
-                                       [](const ImuSample& s, double t) { return s.t < t; });
-    imu_.erase(imu_.begin(), keep);
-    const auto keep_odom = std::lower_bound(odom_alt_.begin(), odom_alt_.end(), scan.t - 2.0,
-                                            [](const PoseStamped& p, double t) { return p.t < t; });
-    odom_alt_.erase(odom_alt_.begin(), keep_odom);
+    sensors_.forgetBefore(scan.t);
     rep.ms.total = msSince(t_start);
     rep.ms.total_cpu = threadCpuMs() - cpu_start;
     return rep;

@@ -55,9 +55,9 @@ void Localizer::refineCandidates(const Scan& scan, FrameReport& rep) {
         const double tc = c.state.t;
         const SE3d T_c = c.state.T_map_imu();
         imu::Preintegration pre(c.state.bias(), imu::ImuNoise{params_.imu.acc_noise, params_.imu.gyro_noise});
-        const bool imu_ok = params_.loc.use_imu && scan.t > tc && imu::coversInterval(imu_, tc, scan.t, 0.05) &&
-                            imu::integrateInterval(imu_, tc, scan.t, pre) > 0;
-        const auto odom = odomAltDelta(tc, scan.t);
+        const bool imu_ok = params_.loc.use_imu && scan.t > tc && imu::coversInterval(sensors_.imu(), tc, scan.t, 0.05) &&
+                            imu::integrateInterval(sensors_.imu(), tc, scan.t, pre) > 0;
+        const auto odom = sensors_.odomAltDelta(tc, scan.t);
         SE3d T_pred = T_c;
         bool imu_predicted = false;
         const bool measured = imu_ok || odom.has_value();

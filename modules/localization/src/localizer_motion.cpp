@@ -31,7 +31,7 @@ bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
     cur_.setPose(prev_.T_map_imu());  // no motion since the last scan
     FrameReport r;
     solveIcp(nullptr, /*wide=*/true, r, Solve::LastScan);
-    const InlierStats in = inlierStats(corr_, pts_body_.size(), cur_.T_map_imu(), params_.loc.inlier_dist);
+    const InlierStats in = inlierStats(corr_, features_.pts_body.size(), cur_.T_map_imu(), params_.loc.inlier_dist);
     const SE3d T = cur_.T_map_imu();
     std::swap(map_, scan_map);
     restore(saved);
@@ -47,7 +47,7 @@ bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
 
 void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, const imu::Preintegration* pre,
                                    FrameReport& rep) {
-    if (scan.rel_time.size() != scan.size() || feature_idx_.empty()) return;
+    if (scan.rel_time.size() != scan.size() || features_.feature_idx.empty()) return;
     const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
     if (!(s_min < 0)) return;
     const Mat3d R_il = scan.T_imu_lidar.linear();
@@ -67,7 +67,7 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         const SE3d T = cur_.T_map_imu();
         const Mat3d R = T.linear();
         auto t0 = Clock::now();
-        associate(pts_body_, T, *map_, assoc_, corr_, last_stats_, &feature_of);
+        associate(features_.pts_body, T, *map_, assoc_, corr_, last_stats_, &feature_of);
         rep.ms.associate += msSince(t0);
         Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
         Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
@@ -76,7 +76,7 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         for (size_t k = 0; k < corr_.size(); ++k) {
             const Correspondence& c = corr_[k];
             if (c.weight <= 0) continue;
-            const double s = scan.rel_time[feature_idx_[feature_of[k]]];
+            const double s = scan.rel_time[features_.feature_idx[feature_of[k]]];
             fusion::correspondenceResidual(c, R, T.translation(), r, J);
             const int dim = fusion::residualDim(c.type);
             const Eigen::Map<const Eigen::Matrix<double, 3, 6, Eigen::RowMajor>> J6(J);
@@ -96,9 +96,7 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         v_l += dv;
         // Deskew again with the estimate and re-solve from the current pose.
         t0 = Clock::now();
-        last_motion_ = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
-        features::deskewPoints(scan.points, scan.rel_time, feature_idx_, last_motion_, deskewed_);
-        for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
+        features_.redeskew(scan, features::SweepMotion::fromTwist(v_l, w_l, -s_min));
         rep.ms.preprocess += msSince(t0);
         rep.deskewed = true;
         rep.rounds = 0, rep.iterations = 0;

@@ -10,31 +10,12 @@
 
 namespace superloc::localization {
 
-std::optional<SE3d> Localizer::odomAltDelta(double t0, double t1) const {
-    const auto a = interpolateAt(odom_alt_, t0, 0.5, 1e-3);
-    const auto b = interpolateAt(odom_alt_, t1, 0.5, 1e-3);
-    if (!a || !b) return std::nullopt;
-    return orthonormalize(a->inverse() * *b);
-}
-
-std::optional<Mat6d> Localizer::odomAltCovAt(double t) const {
-    // Linear interpolation of the reported covariance between the samples around t.
-    const auto it = std::lower_bound(odom_alt_.begin(), odom_alt_.end(), t,
-                                     [](const PoseStamped& p, double tt) { return p.t < tt; });
-    if (it == odom_alt_.end() || !it->cov) return std::nullopt;
-    if (it == odom_alt_.begin() || it->t == t) return it->cov;
-    const auto prev = std::prev(it);
-    if (!prev->cov || !(it->t > prev->t)) return it->cov;
-    const double f = (t - prev->t) / (it->t - prev->t);
-    return Mat6d((1 - f) * *prev->cov + f * *it->cov);
-}
-
 std::optional<SE3d> Localizer::odomAltForFrame() const {
-    const auto d = odomAltDelta(prev_.t, cur_.t);
+    const auto d = sensors_.odomAltDelta(prev_.t, cur_.t);
     // Say once when odom_alt is absent or a gap starts, and when it is back; the frame
     // goes on without the prior (its degenerate flags are still reported in frames.csv).
     if (!d && odom_alt_state_ >= 0) {
-        if (odom_alt_.empty())
+        if (!sensors_.hasOdomAlt())
             MRPT_LOG_WARN_FMT(
                 "t=%.3f: no odom_alt in the rawlog: %s runs without the relative-pose prior",
                 cur_.t, methodName(method_));
@@ -60,8 +41,8 @@ FusionFrame Localizer::fusionFrame(const SE3d& T_map_imu, const SE3d& T_prev_map
     if (have_prev_ && variant_.fusion->usesOdomAlt()) {  // first frame: no previous state
         f.odom_delta = odomAltForFrame();
         if (f.odom_delta && params_.fusion.active.prior_cap_by_odom_cov) {
-            f.odom_cov_prev = odomAltCovAt(prev_.t);
-            f.odom_cov_cur = odomAltCovAt(cur_.t);
+            f.odom_cov_prev = sensors_.odomAltCovAt(prev_.t);
+            f.odom_cov_cur = sensors_.odomAltCovAt(cur_.t);
         }
     }
     return f;

@@ -16,22 +16,6 @@ namespace {
 using Clock = SteadyClock;
 }  // namespace
 
-std::optional<Mat3d> Localizer::gravityFromImu(double t) const {
-    // The mean specific force over the last half second is -gravity in the IMU frame, up to the
-    // platform's own mean acceleration (a walker: a few tenths of m/s^2, ~1-2 deg).
-    if (!params_.loc.use_imu) return std::nullopt;
-    Vec3d f = Vec3d::Zero();
-    int n = 0;
-    for (auto it = imu_.rbegin(); it != imu_.rend() && it->t >= t - 0.5; ++it)
-        if (it->t <= t + 0.05) f += it->acc, ++n;
-    if (n < 10 || !(f.norm() > 0)) return std::nullopt;
-    f /= n;
-    const double g = f.norm();
-    if (std::abs(g - params_.imu.gravity) > 0.2 * params_.imu.gravity) return std::nullopt;  // not gravity-dominated
-    // R_level_imu: the rotation (no yaw) taking the measured up direction onto the map's z.
-    return Mat3d(Eigen::Quaterniond::FromTwoVectors(f / g, Vec3d::UnitZ()).toRotationMatrix());
-}
-
 void Localizer::restore(const Solution& s) {
     cur_ = s.state;
     corr_ = s.corr;
@@ -57,7 +41,7 @@ FrameReport Localizer::refineHypothesis(const Scan& scan, const fusion::FrameSta
         // Inliers measured as tracking measures them, so that the refined poses compare with
         // the frame's own solve (the two associations count inliers differently).
         const auto ta = Clock::now();
-        associate(pts_body_, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
+        associate(features_.pts_body, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
         r.ms.associate += msSince(ta);
     }
     // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
@@ -101,7 +85,7 @@ RelocOutcome Localizer::runRelocalization(const Scan& scan, const Prediction& pr
         std::optional<Mat3d> R_level;
         if (pred.used_imu)
             R_level = Mat3d((pred.T_map_imu * scan.T_imu_lidar).linear());
-        else if (const auto R_level_imu = gravityFromImu(scan.t))
+        else if (const auto R_level_imu = params_.loc.use_imu ? sensors_.gravityAt(scan.t, params_.imu.gravity) : std::nullopt)
             R_level = Mat3d(*R_level_imu * scan.T_imu_lidar.linear());
         const reloc::GlobalSearchResult found = search_->search(scan.points, R_level, region);
         rr.hypotheses = static_cast<int>(found.hypotheses.size());

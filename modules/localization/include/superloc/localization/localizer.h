@@ -21,8 +21,12 @@
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 #include <superloc/localization/localization_params.h>
+#include <superloc/localization/localizer_params.h>
 #include <superloc/localization/method_variant.h>
+#include <superloc/localization/motion_model.h>
 #include <superloc/localization/relocalization.h>
+#include <superloc/localization/scan_features.h>
+#include <superloc/localization/sensor_history.h>
 #include <superloc/map/prior_map.h>
 #include <superloc/reloc/global_search.h>
 #include <superloc/risk/alignment_risk.h>
@@ -34,7 +38,6 @@
 namespace superloc::localization {
 
 class NdtRegistration;
-struct LocalizerParams;
 
 /// A prior map with what the Localizer builds on it: the NDT grid (method ndt) and the global
 /// search ([relocalization] enabled). Localizer::prepareMap makes one, e.g. in another thread
@@ -47,22 +50,6 @@ struct PreparedMap {
     PreparedMap(PreparedMap&&) noexcept;
     PreparedMap& operator=(PreparedMap&&) noexcept;
     ~PreparedMap();
-};
-
-/// Every section the Localizer reads, loaded and validated together.
-struct LocalizerParams {
-    LocalizationParams loc;
-    features::FeaturesParams features;
-    fusion::FusionParams fusion;
-    imu::ImuParams imu;
-    risk::RiskParams risk;
-    HealthParams health;
-    RelocalizationParams relocalization;
-    reloc::GlobalSearchParams global_search;
-
-    /// Loads [localization] [features] [fusion] [imu] [risk] [health] [relocalization] [global_search]; `source` names the file in errors.
-    static LocalizerParams load(const mrpt::config::CConfigFileBase& cfg, const std::string& source);
-    void save(mrpt::config::CConfigFileBase& cfg) const;
 };
 
 class Localizer : public mrpt::system::COutputLogger {
@@ -113,17 +100,6 @@ class Localizer : public mrpt::system::COutputLogger {
 
    private:
     struct Candidate;
-    struct Prediction {
-        SE3d T_map_imu = SE3d::Identity();
-        Vec3d v = Vec3d::Zero();
-        Vec3d w_body = Vec3d::Zero();   ///< [rad/s] angular rate for deskew
-        Vec3d v_body = Vec3d::Zero();   ///< [m/s] body-frame velocity for deskew
-        bool used_imu = false;        ///< pose predicted by IMU preintegration
-        bool twist_from_imu = false;  ///< deskew twist measured by the IMU
-        bool at_rest = false;         ///< first frame: the IMU says the robot is at rest (velocity 0)
-    };
-    Prediction predict(double t, imu::Preintegration& pre);
-    void preprocess(const Scan& scan, const Prediction& pred, FrameReport& rep);
     /// Steps 3-5 from the current state's pose; `wide`: first-frame search radius and rounds.
     /// What a solve is for. Track: this frame in the prior map. Hypothesis: verifying a pose of
     /// the global search (voxel association whatever the tracking one, no odom_alt prior, no
@@ -145,10 +121,6 @@ class Localizer : public mrpt::system::COutputLogger {
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
-    /// Body motion from t0 to t1 measured by odom_alt (its poses interpolated at both times,
-    /// read as body poses in the odometry's own frame): T_odom_body(t0)^-1 T_odom_body(t1).
-    /// Empty when odom_alt does not cover both times (gap > 0.5 s or outside its span).
-    std::optional<SE3d> odomAltDelta(double t0, double t1) const;
     /// What the method's odom_alt fusion policy sees of the current frame: its correspondences
     /// associated at T_map_imu, the previous frame's pose T_prev_map_imu, odom_alt's motion
     /// (looked up only when the policy reads it, and not on the first frame).
@@ -156,8 +128,6 @@ class Localizer : public mrpt::system::COutputLogger {
     /// The odom_alt delta for the current frame, logging when odom_alt is absent or a gap
     /// starts / ends (once per episode, not per frame).
     std::optional<SE3d> odomAltForFrame() const;
-    /// odom_alt's reported covariance interpolated at t, when its samples carry one.
-    std::optional<Mat6d> odomAltCovAt(double t) const;
     /// What trying another pose for the current scan overwrites: the state, the correspondences,
     /// their statistics and the LiDAR pose. Saved before a verification, restored after.
     struct Solution {
@@ -214,9 +184,6 @@ class Localizer : public mrpt::system::COutputLogger {
     /// Where a frame lost `lost_run` frames in a row searches: around the last frame not lost
     /// (local), or nowhere in particular (global: empty).
     std::optional<reloc::SearchRegion> lostRegion(const Scan& scan, int lost_run) const;
-    /// Roll and pitch of the IMU (map z up, no yaw) from its mean specific force over the half
-    /// second before t, for a search without an IMU prediction; empty without IMU samples.
-    std::optional<Mat3d> gravityFromImu(double t) const;
     /// The health checks on the solved frame (its pose against the prediction first).
     void assess(FrameReport& rep);
     /// Step 7 (doc/health.md): a frame lost for a while, or in doubt, searches the map (when
@@ -277,8 +244,7 @@ class Localizer : public mrpt::system::COutputLogger {
     fusion::RobustKernel kernel_;
     Vec3d g_map_;
 
-    std::vector<ImuSample> imu_;
-    Trajectory odom_alt_;
+    SensorHistory sensors_;  ///< IMU and odom_alt between scans
     std::optional<SE3d> initial_T_map_lidar_;
     SE3d T_imu_lidar_ = SE3d::Identity();  ///< extrinsic of the scan being processed
     bool have_prev_ = false;
@@ -297,12 +263,12 @@ class Localizer : public mrpt::system::COutputLogger {
     size_t frames_ = 0;
 
     // Per-frame scratch (kept to avoid allocations in the hot path).
-    features::VoxelSelector selector_, map_selector_;
-    features::SweepMotion last_motion_;
+    Preprocessor preproc_;
+    ScanFeatures features_;  ///< the current scan's
+    features::VoxelSelector map_selector_;
     SE3d last_T_map_lidar_ = SE3d::Identity();
-    std::vector<uint32_t> valid_, candidates_, feature_idx_, map_idx_;
-    std::vector<Vec3f> deskewed_, map_points_, ndt_source_;
-    std::vector<Vec3d> pts_body_;
+    std::vector<uint32_t> map_idx_;
+    std::vector<Vec3f> map_points_;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for motionFromLastScan; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;
