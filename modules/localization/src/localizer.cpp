@@ -5,7 +5,8 @@
 #include <superloc/features/deskew.h>
 #include <superloc/imu/rest_init.h>
 #include <superloc/localization/localizer.h>
-#include <superloc/localization/ndt_registration.h>
+#include <superloc/localization/ndt_aligner.h>
+#include <superloc/localization/frame_fusion.h>
 
 #include <algorithm>
 #include <chrono>
@@ -34,7 +35,6 @@ double threadCpuMs() {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return 1e3 * static_cast<double>(ts.tv_sec) + 1e-6 * static_cast<double>(ts.tv_nsec);
 }
-constexpr size_t kMinCorrespondences = 10;
 }  // namespace
 
 Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map)
@@ -46,14 +46,11 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       map_(std::move(map)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)),
       g_map_(0, 0, -params.imu.gravity),
-      preproc_(params.features) {
-    assoc_.max_dist = params.loc.max_corr_dist;
-    assoc_.voxel = params.loc.association == "voxel";
-    assoc_.nearest_above_thickness = assoc_.voxel ? params.loc.voxel_nearest_above : 0.0;
-    assoc_.plane_max_thickness = params.features.plane_max_thickness;
-    assoc_.line_min_linearity = params.features.line_min_linearity;
-    assoc_.max_fit_residual = params.loc.max_fit_residual;
-    assoc_.point_weight = params.loc.point_weight;
+      preproc_(params.features),
+      assoc_(trackingAssociation(params.loc, params.features)),
+      icp_(params),
+      ndt_reg_(params, assoc_),
+      odom_link_(sensors_, *variant_.fusion, params_.fusion, method_, *this) {
     setMap(std::move(map_));
 }
 
@@ -66,13 +63,13 @@ PreparedMap Localizer::prepareMap(const LocalizerParams& params, std::shared_ptr
     if (!map || map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     PreparedMap p;
     p.map = std::move(map);
-    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion, params.risk).registration == Registration::Ndt) {
+    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion, params.risk).registration == RegistrationKind::Ndt) {
         NdtParams np;
         np.resolution = params.loc.ndt_resolution;
         np.step_size = params.loc.ndt_step_size;
         np.epsilon = params.loc.ndt_epsilon;
         np.max_iterations = params.loc.ndt_max_iterations;
-        p.ndt = std::make_unique<NdtRegistration>(p.map->points(), np);
+        p.ndt = std::make_unique<NdtAligner>(p.map->points(), np);
     }
     if (params.relocalization.enabled) p.search = std::make_unique<reloc::GlobalSearch>(*p.map, params.global_search);
     return p;
@@ -80,12 +77,13 @@ PreparedMap Localizer::prepareMap(const LocalizerParams& params, std::shared_ptr
 
 void Localizer::setMap(PreparedMap&& prepared) {
     if (!prepared.map || prepared.map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
-    if (static_cast<bool>(prepared.ndt) != (variant_.registration == Registration::Ndt) ||
+    if (static_cast<bool>(prepared.ndt) != (variant_.registration == RegistrationKind::Ndt) ||
         static_cast<bool>(prepared.search) != params_.relocalization.enabled)
         throw ConfigError("Localizer::setMap: the map was prepared for other parameters");
     // The old search refers to the old map: replace it before the map it may outlive.
     search_ = std::move(prepared.search);
     ndt_ = std::move(prepared.ndt);
+    ndt_reg_.setTarget(ndt_.get());
     map_ = std::move(prepared.map);
     if (search_) search_->setMinLoggingLevel(getMinLoggingLevel());
 }
@@ -107,222 +105,69 @@ void Localizer::addImu(const ImuSample& s) { sensors_.addImu(s); }
 void Localizer::addOdomAlt(const PoseStamped& p) { sensors_.addOdomAlt(p); }
 
 void Localizer::solveIcp(const imu::Preintegration* pre, bool wide, FrameReport& rep, Solve kind) {
-    const auto& lp = params_.loc;
-    const bool from_hypothesis = kind == Solve::Hypothesis;
     const bool fused = kind == Solve::Track;  // odom_alt prior, IMU window
-    const fusion::FrameState prev_saved = prev_;
-    // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve);
-    // its pose is set to each round's association pose where the policy is asked.
-    FusionFrame fusion_frame;
-    if (fused) fusion_frame = fusionFrame(cur_.T_map_imu(), prev_saved.T_map_imu());
+    FrameSolution sol;
+    sol.state = cur_;
+    sol.corr = std::move(corr_);
+    RegistrationProblem p;
+    p.features = &features_;
+    p.map = map_.get();
+    p.purpose = kind == Solve::Track ? SolvePurpose::Track : kind == Solve::Hypothesis ? SolvePurpose::Hypothesis
+                                                                                       : SolvePurpose::LastScan;
+    p.wide = wide;
+    p.prev = &prev_;
+    p.imu = pre;
+    std::optional<FrameFusion> fusion;
     if (fused) {
+        // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve).
+        fusion.emplace(*variant_.fusion, params_.fusion, params_.risk,
+                       odom_link_.frame(have_prev_, cur_.T_map_imu(), prev_.T_map_imu(), prev_.t, cur_.t));
         // What the estimate knows without odom_alt, carried from the last frame through the IMU
-        // (fusion::EstimateInformation); the scan's labels are added at the association below.
-        fusion::FrameState p = prev_saved, c = cur_;
+        // (fusion::EstimateInformation); the scan's labels are added at the association.
+        fusion::FrameState pv = prev_, c = cur_;
         fusion::FrameProblemInputs in;
-        in.prev = &p;
+        in.prev = &pv;
         in.cur = &c;
         in.imu = pre;
         in.g_map = g_map_;
         in.acc_bias_rw = params_.imu.acc_bias_rw;
         in.gyro_bias_rw = params_.imu.gyro_bias_rw;
-        est_info_.predict(in, params_.fusion);
+        sol.est_info = est_info_;
+        sol.est_info->predict(in, params_.fusion);
+        p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
+        p.marginalize = params_.fusion.window == "marginalized";
+        p.fusion = &*fusion;
     }
-    const int rounds = wide ? lp.rounds_init : lp.rounds;
-    // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
-    // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
-    // starts at the coarsest level, whose metre-sized voxels give a wide basin, a tracked frame
-    // at the finest. Within a level the robust kernel's scale halves every round from a quarter
-    // of the voxel edge (half on wide frames) down to the level's floor (kernel_scale at the
-    // finest, doubled per level); once the pose settles at the floor, the next finer level takes
-    // over; at the finest, it has converged. The gate is max_corr_dist, doubled per level.
-    // association = nearest: the search radius starts at max_corr_dist_init on wide frames and
-    // shrinks by 0.7 each time the pose settles, down to max_corr_dist; the kernel halves from
-    // radius/2 to kernel_scale within each radius.
-    // A hypothesis of the global search is solved in the voxel map whatever the tracking
-    // association (its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps), without
-    // the odom_alt prior or eigen_remap (both hold the pose to the previous frame's, which is
-    // exactly what is in question).
-    const bool voxel = assoc_.voxel || from_hypothesis;
-    const int n_levels = voxel ? map_->voxels().levels() : 1;
-    // A hypothesis starts one level below the coarsest at most (1 m by default): the search's
-    // refinement has brought it within a few decimetres, and the 2 m level's plane biases in
-    // small rooms pushed right hypotheses away (simulated office: the right pose then lost to a
-    // look-alike room).
-    int level = voxel && wide ? (from_hypothesis ? std::min(1, n_levels - 1) : n_levels - 1) : 0;
-    double radius = !voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist;
-    int in_stage = 0;
-    last_stats_ = {};
-    corr_.clear();
-    std::optional<fusion::RelativePosePrior> prior;
-    for (int r = 0; r < rounds; ++r, ++in_stage) {
-        // Step 3: associate at the current estimate (the prediction on round 0).
-        const double scale = voxel ? std::pow(2.0, level) : 1.0;
-        AssociationParams ap = assoc_;
-        ap.voxel = voxel;
-        ap.level = level;
-        ap.max_dist = voxel ? lp.max_corr_dist * scale : radius;
-        const double floor = params_.fusion.kernel_scale * scale;
-        const double kernel =
-            std::max(floor, voxel ? (wide ? 0.5 : 0.25) * map_->voxels().levelSize(level) * std::pow(0.5, in_stage)
-                                  : 0.5 * radius * std::pow(0.5, in_stage));
-        const bool finest = voxel ? level == 0 : radius <= lp.max_corr_dist;
-        const SE3d T_before = cur_.T_map_imu();
-        auto t0 = Clock::now();
-        associate(features_.pts_body, T_before, *map_, ap, corr_, last_stats_);
-        rep.ms.associate += msSince(t0);
-        if (r == 0 || (voxel && level == 0 && in_stage == 0 && wide)) {
-            // Step 4: alignment risk before the optimisation at this resolution (DESIGN §5): at the
-            // predicted pose, and for a wide frame again when the finest level starts.
-            t0 = Clock::now();
-            const auto risk = risk::computeAlignmentRisk(corr_, T_before, T_imu_lidar_.translation(),
-                                                         params_.risk);
-            rep.setRisk(risk);
-            if (fused) {
-                // Where is the estimate weak without odom_alt? (doc/method.md §2)
-                const Mat6d H = fusion::scanInformation(corr_, T_before, params_.fusion.scan_sigma);
-                const double n = params_.risk.normal_noise_deg * kDeg;
-                scan_info_ = fusion::informationAboveNoise(H, std::pow(std::sin(n), 2));
-                Vec6d weak;
-                weak << Vec3d::Constant(params_.risk.weak_sigma_xyz), Vec3d::Constant(params_.risk.weak_sigma_deg * kDeg);
-                fusion_frame.scan = fusion::weakness(scan_info_, weak);
-                fusion_frame.est = fusion::weakness(est_info_.information(scan_info_), weak);
-                rep.scan_info = scan_info_.diagonal();
-                rep.scan_sigma = fusion_frame.scan.sigma;
-                rep.est_sigma = fusion_frame.est.sigma;
-                rep.weak = fusion_frame.est.weak;
-                frame_est_ = fusion_frame.est;
-                frame_scan_ = fusion_frame.scan;
-            }
-            if (fused) {
-                fusion_frame.T_map_imu = T_before;
-                prior = variant_.fusion->prior(fusion_frame, risk);
-            }
-            rep.ms.risk += msSince(t0);
-        }
-        if (corr_.size() < kMinCorrespondences && !pre) {
-            if (voxel && level > 0) {  // nothing at this level: try the next finer one
-                --level;
-                in_stage = -1;
-                continue;
-            }
-            rep.diverged = true;
-            rep.diverged_reason = "no_correspondences";
-            break;
-        }
-        // Step 5: joint solve (paper eq. 12) with IRLS weights at the association pose.
-        t0 = Clock::now();
-        // The factor borrows the round's correspondences and gives them back at the end of the
-        // round (no 2000-element copy per round; corr_ keeps its capacity).
-        fusion::ScanFactor scan(std::move(corr_), params_.fusion.scan_sigma * scale);
-        struct GiveBack {
-            fusion::ScanFactor& f;
-            std::vector<Correspondence>& v;
-            ~GiveBack() { v = f.release(); }
-        } give_back{scan, corr_};
-        scan.setRobustWeights(T_before, kernel_, kernel);
-        prev_ = prev_saved;
-        fusion::FrameProblemInputs in;
-        in.prev = &prev_;
-        in.cur = &cur_;
-        in.scan = scan.correspondences().size() >= kMinCorrespondences ? &scan : nullptr;
-        in.imu = pre;
-        in.g_map = g_map_;
-        in.acc_bias_rw = params_.imu.acc_bias_rw;
-        in.gyro_bias_rw = params_.imu.gyro_bias_rw;
-        in.prior = prior;
-        in.prev_prior = prev_marginal_ && fused ? &*prev_marginal_ : nullptr;
-        // Only the last round's marginal is kept: ask for it on a round that can be the last
-        // (finest resolution with the kernel at its floor, or the last allowed round).
-        in.marginalize = params_.fusion.window == "marginalized" && fused &&
-                         ((finest && kernel <= floor) || r == rounds - 1);
-        const auto sum = fusion::solveFrame(in, params_.fusion);
-        if (fused) cur_marginal_ = sum.marginal;
-        rep.ms.solve += msSince(t0);
-        rep.rounds = r + 1;
-        rep.iterations += sum.iterations;
-        rep.prior_used = prior.has_value();
-        rep.final_level = level;
-        if (!sum.usable) {
-            rep.diverged = true;
-            rep.diverged_reason = "solver";
-            break;
-        }
-        if (fused) {  // the method's odom_alt fusion may amend the round's solution
-            const SE3d T_solved = cur_.T_map_imu();
-            fusion_frame.T_map_imu = T_before;
-            const SE3d T_kept = variant_.fusion->afterRound(fusion_frame, T_before, scan, T_solved, rep);
-            if (T_kept.matrix() != T_solved.matrix()) cur_.setPose(T_kept);
-        }
-        const SE3d T_after = cur_.T_map_imu();
-        rep.last_step_xyz = translationDistance(T_before, T_after);
-        rep.last_step_deg = rotationAngle(T_before, T_after) / kDeg;
-        const bool small = translationDistance(T_before, T_after) < lp.converged_xyz * scale &&
-                           rotationAngle(T_before, T_after) < lp.converged_deg * scale * kDeg;
-        if (small && kernel <= floor) {
-            if (finest) {
-                rep.converged = true;
-                break;
-            }
-            if (voxel)
-                --level;
-            else
-                radius = std::max(lp.max_corr_dist, 0.7 * radius);
-            in_stage = -1;
-        }
+    icp_.solve(p, sol, rep);
+    cur_ = sol.state;
+    corr_ = std::move(sol.corr);
+    last_stats_ = sol.stats;
+    if (fused) {
+        cur_marginal_ = sol.marginal;
+        est_info_ = *sol.est_info;
+        scan_info_ = sol.scan_info;
+        frame_est_ = sol.est_weak;
+        frame_scan_ = sol.scan_weak;
     }
-    if (voxel && level > 0 && !rep.diverged) {
-        // The rounds ran out before the finest level: associate there once more so that the
-        // frame's quality is measured at full resolution.
-        AssociationParams ap = assoc_;
-        ap.voxel = voxel;
-        const auto t0 = Clock::now();
-        associate(features_.pts_body, cur_.T_map_imu(), *map_, ap, corr_, last_stats_);
-        rep.ms.associate += msSince(t0);
-    }
-    if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();
 }
 
-void Localizer::solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep) {
-    // The registration step is PCL's NDT from the predicted pose; everything else is shared.
-    // The alignment risk is reported for ndt too (not used): correspondences at the prediction.
-    auto ta = Clock::now();
-    associate(features_.pts_body, cur_.T_map_imu(), *map_, assoc_, corr_, last_stats_);
-    rep.ms.associate += msSince(ta);
-    ta = Clock::now();
-    const auto risk =
-        risk::computeAlignmentRisk(corr_, cur_.T_map_imu(), T_imu_lidar.translation(), params_.risk);
-    rep.setRisk(risk);
-    rep.ms.risk += msSince(ta);
-    const auto t0 = Clock::now();
-    const SE3d guess = cur_.T_map_imu() * T_imu_lidar;
-    const AlignResult a = ndt_->align(features_.ndt_source, guess);
-    rep.rounds = 1;
-    rep.iterations = a.iterations;
-    rep.converged = a.converged;
-    const SE3d T_ndt = a.T_target_source * T_imu_lidar.inverse();
-    cur_.setPose(T_ndt);
-    if (pre) {
-        // Loosely coupled, like hdl_localization's filter: the NDT pose as a measurement
-        // (sigma scan_sigma, 0.5 deg) with the IMU factor, for velocity and biases.
-        Mat6d w = Mat6d::Zero();
-        w.diagonal().head<3>().setConstant(1.0 / params_.fusion.scan_sigma);
-        w.diagonal().tail<3>().setConstant(1.0 / (0.5 * kDeg));
-        fusion::FrameProblemInputs in;
-        in.prev = &prev_;
-        in.cur = &cur_;
-        in.imu = pre;
-        in.g_map = g_map_;
-        in.acc_bias_rw = params_.imu.acc_bias_rw;
-        in.gyro_bias_rw = params_.imu.gyro_bias_rw;
-        in.cur_pose_prior = std::make_pair(T_ndt, w);
-        in.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
-        in.marginalize = params_.fusion.window == "marginalized";
-        const auto sum = fusion::solveFrame(in, params_.fusion);
-        cur_marginal_ = sum.marginal;
-        rep.iterations += sum.iterations;
-    }
-    rep.ms.solve += msSince(t0);
+void Localizer::solveNdt(const SE3d&, const imu::Preintegration* pre, FrameReport& rep) {
+    FrameSolution sol;
+    sol.state = cur_;
+    sol.corr = std::move(corr_);
+    sol.marginal = cur_marginal_;
+    RegistrationProblem p;
+    p.features = &features_;
+    p.map = map_.get();
+    p.prev = &prev_;
+    p.imu = pre;
+    p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
+    p.marginalize = params_.fusion.window == "marginalized";
+    ndt_reg_.solve(p, sol, rep);
+    cur_ = sol.state;
+    corr_ = std::move(sol.corr);
+    last_stats_ = sol.stats;
+    cur_marginal_ = sol.marginal;
 }
 
 void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep) {
@@ -341,7 +186,7 @@ void Localizer::finish(const Scan& scan, const Prediction& pred, bool unchecked,
     const SE3d T = cur_.T_map_imu();
     // Quality at the estimate from the last association (re-querying the map here would cost
     // a whole association round; NDT has none, so it associates once).
-    if (variant_.registration == Registration::Ndt || rejected) {
+    if (variant_.registration == RegistrationKind::Ndt || rejected) {
         const auto t0 = Clock::now();
         associate(features_.pts_body, T, *map_, assoc_, corr_, last_stats_);
         rep.ms.associate += msSince(t0);
@@ -436,7 +281,7 @@ FrameReport Localizer::process(const Scan& scan) {
 
     // Step 2: features.
     t0 = Clock::now();
-    preproc_.run(scan, pred, prev_, sensors_, g_map_, variant_.registration == Registration::Ndt, features_, rep);
+    preproc_.run(scan, pred, prev_, sensors_, g_map_, variant_.registration == RegistrationKind::Ndt, features_, rep);
     rep.ms.preprocess = msSince(t0);
 
     // Steps 3-5: association, risk, solve.
@@ -458,7 +303,7 @@ FrameReport Localizer::process(const Scan& scan) {
         rep.T_map_lidar_pred = pred.T_map_imu * scan.T_imu_lidar;
     }
     restart_ = false;
-    rep.coarse_start = velocity_unknown && variant_.registration != Registration::Ndt;
+    rep.coarse_start = velocity_unknown && variant_.registration != RegistrationKind::Ndt;
     if (requested) {
         // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
         // Until a pose is accepted, every scan searches again, or, after an ambiguous search,
@@ -482,7 +327,7 @@ FrameReport Localizer::process(const Scan& scan) {
         if (tracking && o != RelocOutcome::Accepted) o = decideCandidates(scan, rep);
         if (o == RelocOutcome::Accepted) reloc_pending_ = false, doubt_ = false, hypotheses_.clear();
     } else {
-        if (variant_.registration == Registration::Ndt) {
+        if (variant_.registration == RegistrationKind::Ndt) {
             solveNdt(scan.T_imu_lidar, pred.used_imu ? &pre : nullptr, rep);
         } else {
             solveIcp(pred.used_imu ? &pre : nullptr, velocity_unknown, rep);

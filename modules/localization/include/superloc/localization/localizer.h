@@ -18,7 +18,10 @@
 #include <superloc/fusion/fusion_params.h>
 #include <superloc/imu/imu_params.h>
 #include <superloc/localization/association.h>
+#include <superloc/localization/frame_fusion.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/localization/icp_registration.h>
+#include <superloc/localization/ndt_registration.h>
 #include <superloc/localization/health.h>
 #include <superloc/localization/localization_params.h>
 #include <superloc/localization/localizer_params.h>
@@ -37,14 +40,14 @@
 
 namespace superloc::localization {
 
-class NdtRegistration;
+class NdtAligner;
 
 /// A prior map with what the Localizer builds on it: the NDT grid (method ndt) and the global
 /// search ([relocalization] enabled). Localizer::prepareMap makes one, e.g. in another thread
 /// while frames go on; Localizer::setMap swaps it in between frames.
 struct PreparedMap {
     std::shared_ptr<const map::PriorMap> map;
-    std::unique_ptr<NdtRegistration> ndt;
+    std::unique_ptr<NdtAligner> ndt;
     std::unique_ptr<reloc::GlobalSearch> search;
     PreparedMap();
     PreparedMap(PreparedMap&&) noexcept;
@@ -121,13 +124,6 @@ class Localizer : public mrpt::system::COutputLogger {
     void solveNdt(const SE3d& T_imu_lidar, const imu::Preintegration* pre, FrameReport& rep);
     /// `unchecked`: no jump check against the prediction (unknown velocity, recovery).
     void finish(const Scan& scan, const Prediction& pred, bool unchecked, FrameReport& rep);
-    /// What the method's odom_alt fusion policy sees of the current frame: its correspondences
-    /// associated at T_map_imu, the previous frame's pose T_prev_map_imu, odom_alt's motion
-    /// (looked up only when the policy reads it, and not on the first frame).
-    FusionFrame fusionFrame(const SE3d& T_map_imu, const SE3d& T_prev_map_imu) const;
-    /// The odom_alt delta for the current frame, logging when odom_alt is absent or a gap
-    /// starts / ends (once per episode, not per frame).
-    std::optional<SE3d> odomAltForFrame() const;
     /// What trying another pose for the current scan overwrites: the state, the correspondences,
     /// their statistics and the LiDAR pose. Saved before a verification, restored after.
     struct Solution {
@@ -239,8 +235,7 @@ class Localizer : public mrpt::system::COutputLogger {
     /// the last frame was `ok` or a verified relocalization: its pose can anchor a velocity
     bool prev_verified_ = false;
     std::shared_ptr<const map::PriorMap> map_;
-    std::unique_ptr<NdtRegistration> ndt_;
-    AssociationParams assoc_;
+    std::unique_ptr<NdtAligner> ndt_;
     fusion::RobustKernel kernel_;
     Vec3d g_map_;
 
@@ -264,6 +259,10 @@ class Localizer : public mrpt::system::COutputLogger {
 
     // Per-frame scratch (kept to avoid allocations in the hot path).
     Preprocessor preproc_;
+    AssociationParams assoc_;  ///< the tracking association
+    IcpRegistration icp_;
+    NdtRegistration ndt_reg_;
+    OdomAltLink odom_link_;
     ScanFeatures features_;  ///< the current scan's
     features::VoxelSelector map_selector_;
     SE3d last_T_map_lidar_ = SE3d::Identity();
@@ -275,7 +274,6 @@ class Localizer : public mrpt::system::COutputLogger {
     Vec3f last_scan_origin_ = Vec3f::Zero();
     std::vector<Correspondence> corr_;
     AssociationStats last_stats_;
-    mutable int odom_alt_state_ = 0;  ///< 0 not checked yet, 1 available, -1 missing (logged)
 };
 
 }  // namespace superloc::localization
