@@ -87,13 +87,9 @@ void Localizer::addImu(const ImuSample& s) { sensors_.addImu(s); }
 void Localizer::addOdomAlt(const PoseStamped& p) { sensors_.addOdomAlt(p); }
 
 FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
-    const auto t_start = Clock::now();
-    const double cpu_start = threadCpuMs();
-    FrameReport rep;
-    rep.index = frames_++;
-    rep.t = scan.t;
-    if (rep.index == 0) {
-        // An initial pose from a trajectory: the pose at this first scan's time.
+    if (frames_ == 0) {
+        // An initial pose from a trajectory: the pose at this first scan's time (checked against
+        // the map's bounds before the frame's time is taken, as a pose given directly is).
         bool covered = true;
         const auto d = start_.atFirstScan(scan.t, *map_, search_ != nullptr, covered);
         if (d && !covered)
@@ -104,6 +100,11 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
             relocalize();
         }
     }
+    const auto t_start = Clock::now();
+    const double cpu_start = threadCpuMs();
+    FrameReport rep;
+    rep.index = frames_++;
+    rep.t = scan.t;
     // Steps 1-2 (Tracker): prediction and features.
     Frame& f = frame_;
     tracker_.begin(scan, start_.firstPose(), f, rep);
@@ -133,6 +134,7 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     rep.ms.total = msSince(t_start);
     rep.ms.total_cpu = threadCpuMs() - cpu_start;
     if (out) outputs_.fill(scan, f.features, sol, *out);
+    tracker_.recycle(std::move(sol.corr));
     return rep;
 }
 

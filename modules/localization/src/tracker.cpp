@@ -87,6 +87,8 @@ bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
 FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) {
     FrameSolution sol;
     sol.state = f.start;
+    sol.corr = std::move(spare_corr_);
+    sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     if (variant_.registration == RegistrationKind::Ndt) {
         RegistrationProblem p;
@@ -151,6 +153,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     FrameSolution sol;
     sol.state = start;
     sol.state.t = f.scan->t;
+    sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const Prediction* frame_pred = as == VerifyAs::FirstFrame ? &f.pred : nullptr;
     if (frame_pred) {
         trackedSolve(f, sol, true, nullptr, r);

@@ -79,6 +79,9 @@ class Tracker {
     /// frame was localized without a pose; `pending`: a relocalization is still asked for.
     void end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
              bool requested, bool pending);
+    /// The frame's correspondences back once nothing needs them: the next track() solves into
+    /// them (no allocation per frame).
+    void recycle(std::vector<Correspondence>&& corr) { spare_corr_ = std::move(corr); }
 
    private:
     /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state.
@@ -123,6 +126,7 @@ class Tracker {
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;
     Vec3f last_scan_origin_ = Vec3f::Zero();
+    std::vector<Correspondence> spare_corr_;  ///< recycle()
 };
 
 }  // namespace superloc::localization
