@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace superloc::testing {
 
@@ -82,6 +83,22 @@ inline Scan sweep(const Motion& m, const SE3d& T_imu_lidar, double t_end) {
         }
     }
     return s;
+}
+
+/// The IMU samples (200 Hz, each value held over its interval) of the motion from t_imu up to
+/// t; t_imu moves on past them.
+inline std::vector<ImuSample> imuUpTo(const Motion& m, double t, double& t_imu) {
+    const double dt = 0.005;
+    std::vector<ImuSample> out;
+    for (; t_imu <= t + 1e-9; t_imu += dt) {
+        ImuSample s;
+        s.t = t_imu;
+        const double tm = t_imu + 0.5 * dt;  // value held over [t, t + dt)
+        s.acc = m.R(tm).transpose() * (m.a(tm) - kG);
+        s.gyro = m.w_b;
+        out.push_back(s);
+    }
+    return out;
 }
 
 }  // namespace superloc::testing

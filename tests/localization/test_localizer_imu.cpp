@@ -48,17 +48,9 @@ RunResult run(const RunOptions& o, std::vector<double>* errors = nullptr) {
     loc.setInitialPose(m.T(0.1) * T_il);
     RunResult out;
     double t_imu = 0;
-    const double dt = 0.005;
     for (int k = 1; k <= 20; ++k) {
         const double t_scan = 0.1 * k;
-        for (; t_imu <= t_scan + 1e-9; t_imu += dt) {
-            ImuSample s;
-            s.t = t_imu;
-            const double tm = t_imu + 0.5 * dt;  // value held over [t, t + dt)
-            s.acc = m.R(tm).transpose() * (m.a(tm) - kG);
-            s.gyro = m.w_b;
-            loc.addImu(s);
-        }
+        for (const ImuSample& s : imuUpTo(m, t_scan, t_imu)) loc.addImu(s);
         const FrameReport r = loc.process(sweep(m, T_il, t_scan));
         const SE3d truth = m.T(t_scan) * T_il;
         out.max_dt = std::max(out.max_dt, translationDistance(r.T_map_lidar, truth));

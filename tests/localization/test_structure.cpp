@@ -39,21 +39,6 @@ LocalizerParams boxParams() {
     return p;
 }
 
-/// The IMU samples of the motion from t_imu up to t (t_imu moves on), as a rawlog gives them.
-std::vector<ImuSample> imuUpTo(const Motion& m, double t, double& t_imu) {
-    const double dt = 0.005;
-    std::vector<ImuSample> out;
-    for (; t_imu <= t + 1e-9; t_imu += dt) {
-        ImuSample s;
-        s.t = t_imu;
-        const double tm = t_imu + 0.5 * dt;  // value held over [t, t + dt)
-        s.acc = m.R(tm).transpose() * (m.a(tm) - kG);
-        s.gyro = m.w_b;
-        out.push_back(s);
-    }
-    return out;
-}
-
 /// Distance of a map-frame point to the nearest wall of the box room.
 double toWall(const Vec3f& p) {
     double d = 1e9;

@@ -70,18 +70,7 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
     sortOut(std::move(attempts), verified, standing);
     rr.verified = static_cast<int>(verified.size());
     const StageTimes ms = rep.ms;
-    const auto report = [&](FrameReport& r) {
-        r.ms = ms;
-        r.ms.solve += rr.search_ms + rr.verify_ms;
-        r.reloc = rr;
-    };
-    if (verified.empty()) {
-        rr.detail = "verification";
-        report(rep);
-        return rr.outcome;
-    }
-    std::sort(verified.begin(), verified.end(),
-              [](const Attempt& a, const Attempt& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
+    if (!rank(verified, ms, rr, rep)) return rr.outcome;
     const Attempt& best = verified.front();
     // Ambiguous: another pose that stands (verified, or only unsettled), in another place,
     // explains the scan about as well; or, while candidates are tracked (refined on this scan
@@ -118,7 +107,7 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
             rep.T_map_lidar = T_lidar;
             rep.T_map_imu = T_imu;
         }
-        report(rep);
+        report(ms, rr, rep);
         return rr.outcome;
     }
     if (rep.health != Health::Lost && !pending_ && f.pred.used_imu && imu_chain_ &&
@@ -129,17 +118,17 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
         // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus), and
         // so may an IMU chain that started from such a frame (imu_chain_).
         rr.outcome = RelocOutcome::TooFar;
-        report(rep);
+        report(ms, rr, rep);
         return rr.outcome;
     }
     if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
         // The frame's own solve stands (a suspicious frame the search could not better).
         rr.outcome = RelocOutcome::NotBetter;
-        report(rep);
+        report(ms, rr, rep);
         return rr.outcome;
     }
     accept(f, own, best, rr, sol, rep);
-    report(rep);
+    report(ms, rr, rep);
     rep.recovered = true;
     return rr.outcome;
 }

@@ -165,6 +165,23 @@ void Recovery::sortOut(std::vector<Attempt>&& attempts, std::vector<Attempt>& ve
     }
 }
 
+bool Recovery::rank(std::vector<Attempt>& verified, const StageTimes& ms, RelocReport& rr, FrameReport& rep) const {
+    if (verified.empty()) {
+        rr.detail = "verification";
+        report(ms, rr, rep);
+        return false;
+    }
+    std::sort(verified.begin(), verified.end(),
+              [](const Attempt& a, const Attempt& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
+    return true;
+}
+
+void Recovery::report(const StageTimes& ms, const RelocReport& rr, FrameReport& rep) {
+    rep.ms = ms;
+    rep.ms.solve += rr.search_ms + rr.verify_ms;
+    rep.reloc = rr;
+}
+
 bool Recovery::rival(const FrameReport& best, const FrameReport& o, bool start) const {
     const auto& rp = params_.relocalization;
     const bool distinct = start ? !rp.sameStartBasin(o.T_map_lidar, best.T_map_lidar)

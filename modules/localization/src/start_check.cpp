@@ -61,18 +61,7 @@ void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameRep
         standing.push_back(own);
     }
     const StageTimes ms = rep.ms;
-    const auto report = [&](FrameReport& r) {
-        r.ms = ms;
-        r.ms.solve += rr.search_ms + rr.verify_ms;
-        r.reloc = rr;
-    };
-    if (verified.empty()) {
-        rr.detail = "verification";
-        report(rep);
-        return;
-    }
-    std::sort(verified.begin(), verified.end(),
-              [](const Attempt& a, const Attempt& b) { return a.rep.inlier_ratio > b.rep.inlier_ratio; });
+    if (!rank(verified, ms, rr, rep)) return;
     const Attempt& best = verified.front();
     // Ambiguous: a result in another basin of the start (start_distinct_*) explains the scan
     // about as well. (A translation the scan leaves open is told by this rule already: the seeds
@@ -92,7 +81,7 @@ void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameRep
             rep = best.rep;
             tracker_.setRestart(true);
         }
-        report(rep);
+        report(ms, rr, rep);
         // Another result within the start's uncertainty fits about as well: the pose is kept,
         // but not as `ok`. (The frames after it are not held in doubt: on kitti00-mini their
         // searches took poses 0.4 m along the road, as the start's rivals were.)
@@ -103,11 +92,11 @@ void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameRep
         (best.rep.inlier_ratio <= rep.inlier_ratio || rp.sameStartBasin(best.rep.T_map_lidar, rep.T_map_lidar))) {
         // The frame's own solve stands (the best seed ends where the own solve did, or fits no better).
         rr.outcome = RelocOutcome::NotBetter;
-        report(rep);
+        report(ms, rr, rep);
         return;
     }
     accept(f, own, best, rr, sol, rep);
-    report(rep);
+    report(ms, rr, rep);
     rep.recovered = true;
     assess(rep);
 }

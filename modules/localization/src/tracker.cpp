@@ -91,14 +91,7 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     if (variant_.registration == RegistrationKind::Ndt) {
-        RegistrationProblem p;
-        p.features = &f.features;
-        p.map = map_.get();
-        p.prev = &f.prev;
-        p.imu = imu;
-        p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
-        p.marginalize = params_.fusion.window == "marginalized";
-        ndt_.solve(p, sol, rep);
+        ndt_.solve(problem(f, SolvePurpose::Track, false, imu), sol, rep);
     } else {
         trackedSolve(f, sol, velocity_unknown, imu, rep);
         if (velocity_unknown && wantsSweepVelocity(f.pred) && !rep.diverged) sweepVelocity(f, f.pred, imu, sol, rep);
@@ -127,17 +120,24 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     in.gyro_bias_rw = params_.imu.gyro_bias_rw;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);
+    RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
+    p.fusion = &fusion;
+    icp_.solve(p, sol, rep);
+}
+
+RegistrationProblem Tracker::problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const {
     RegistrationProblem p;
     p.features = &f.features;
     p.map = map_.get();
-    p.purpose = SolvePurpose::Track;
+    p.purpose = purpose;
     p.wide = wide;
     p.prev = &f.prev;
     p.imu = imu;
-    p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
-    p.marginalize = params_.fusion.window == "marginalized";
-    p.fusion = &fusion;
-    icp_.solve(p, sol, rep);
+    if (purpose == SolvePurpose::Track) {
+        p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
+        p.marginalize = params_.fusion.window == "marginalized";
+    }
+    return p;
 }
 
 bool Tracker::wantsSweepVelocity(const Prediction& pred) const {
@@ -159,13 +159,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
         trackedSolve(f, sol, true, nullptr, r);
         if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol, r);
     } else {
-        RegistrationProblem p;
-        p.features = &f.features;
-        p.map = map_.get();
-        p.purpose = SolvePurpose::Hypothesis;
-        p.wide = true;
-        p.prev = &f.prev;
-        icp_.solve(p, sol, r);
+        icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol, r);
         if (!icp_.association().voxel) {
             // Inliers measured as tracking measures them, so that the refined poses compare with
             // the frame's own solve (the two associations count inliers differently).

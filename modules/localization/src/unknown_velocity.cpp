@@ -28,12 +28,8 @@ bool Tracker::measureMotion(Frame& f, FrameReport& rep) {
     FrameSolution sol;
     sol.state = f.start;
     sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan
-    RegistrationProblem p;
-    p.features = &f.features;
+    RegistrationProblem p = problem(f, SolvePurpose::LastScan, true, nullptr);
     p.map = &scan_map;
-    p.purpose = SolvePurpose::LastScan;
-    p.wide = true;
-    p.prev = &f.prev;
     FrameReport r;
     icp_.solve(p, sol, r);
     const InlierStats in = inlierStats(sol.corr, f.features.pts_body.size(), sol.state.T_map_imu(),

@@ -66,6 +66,12 @@ class Recovery {
                 FrameReport& rep);
     /// The attempts that fit (verified, verify.h) and those not lost (standing), in order.
     void sortOut(std::vector<Attempt>&& attempts, std::vector<Attempt>& verified, std::vector<Attempt>& standing) const;
+    /// Once a policy's attempts are verified: false when none was (`rep` reports "verification"
+    /// with the policy's times), else true with `verified` best first (highest inlier ratio).
+    bool rank(std::vector<Attempt>& verified, const StageTimes& ms, RelocReport& rr, FrameReport& rep) const;
+    /// What a policy did, into the frame's report: `rr`, and its search and verification times
+    /// added to the frame's own (`ms`).
+    static void report(const StageTimes& ms, const RelocReport& rr, FrameReport& rep);
     /// `o` explains the scan about as well as `best` (ambiguity_ratio x its inlier ratio) from
     /// another place (`start`: another basin of the start check, start_distinct_*).
     bool rival(const FrameReport& best, const FrameReport& o, bool start) const;

@@ -84,6 +84,9 @@ class Tracker {
     void recycle(std::vector<Correspondence>&& corr) { spare_corr_ = std::move(corr); }
 
    private:
+    /// A solve of f's features in the map in use from f's window: a tracked one (purpose Track)
+    /// with the IMU window's prior and marginal, `imu` when the frame has it.
+    RegistrationProblem problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const;
     /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state.
     void trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu, FrameReport& rep);
     /// Without IMU (unknown_velocity.cpp): f's features registered, wide and from no motion,
