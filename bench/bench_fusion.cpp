@@ -1,10 +1,14 @@
 // Cost of superloc's prior weighting per frame (doc/method.md §2): the scan information H of the
 // frame's correspondences (body coordinates), s_k, W = diag(max(0, 1 - gamma)) s, and Zhang's
 // eigen remap — the work added to the risk step. Synthetic box-room correspondences.
-// And the IMU window's solve with and without its marginal (doc/method.md §3).
+// And the IMU window's solve with and without its marginal (doc/method.md §3), and the whole
+// per-frame work of superloc's risk and weighting (doc/method.md §2).
 #include <benchmark/benchmark.h>
 #include <superloc/core/se3.h>
+#include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/frame_problem.h>
+#include <superloc/fusion/odom_calibration.h>
+#include <superloc/risk/alignment_risk.h>
 #include <superloc/fusion/prior_weight.h>
 
 #include <random>
@@ -76,5 +80,51 @@ static void BM_ImuWindowSolve(benchmark::State& st) {
     }
 }
 BENCHMARK(BM_ImuWindowSolve)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// Everything superloc adds per frame before and after its solve (doc/method.md §2), as the
+// localizer runs it: the paper's risk (labels, gamma, flags, eigen diagnostics) of 2000
+// correspondences; their scan information H and its noise floor; the estimate's information
+// carried through 0.1 s of IMU (one Jacobian evaluation of the IMU factor and the previous
+// state's prior, a Schur complement); where the estimate and the scan alone are weak; odom_alt
+// corrected and weighed by its calibration; W = G diag(1/sigma^2) G and its square root; then,
+// after the solve, the calibration's update and the information's commit.
+static void BM_RiskAndWeight(benchmark::State& st) {
+    const auto corr = room(2000);
+    const SE3d T = makePoseRPY(1, 2, 0.5, 0.01, 0.02, 0.3);
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.2, 0, 9.81), Vec3d(0, 0, 0.1), 0.005);
+    FusionParams params;
+    risk::RiskParams rp;
+    FrameState prev, cur;
+    cur.setPose(T);
+    prev.setPose(T * makePoseRPY(-0.5, 0, 0, 0, 0, -0.01));
+    EstimateInformation est;
+    OdomCalibration calib;
+    const SE3d odom = makePoseRPY(0.51, 0.002, 0, 0, 0, 0.0101);
+    std::array<bool, 6> held{};
+    held.fill(true);
+    for (int k = 0; k < 50; ++k) calib.update(odom, makePoseRPY(0.5, 0, 0, 0, 0, 0.01), held);
+    Vec6d weak;
+    weak << Vec3d::Constant(0.05), Vec3d::Constant(0.5 * M_PI / 180);
+    for (auto _ : st) {
+        benchmark::DoNotOptimize(risk::computeAlignmentRisk(corr, T, Vec3d(0, 0, 0.15), rp));
+        FrameState p = prev, c = cur;
+        FrameProblemInputs in;
+        in.prev = &p;
+        in.cur = &c;
+        in.imu = &pre;
+        est.predict(in, params);
+        const Mat6d H = informationAboveNoise(scanInformation(corr, T, 0.05), 0.0049);
+        const Weakness scan = weakness(H, weak), e = weakness(est.information(H), weak);
+        const SE3d delta = calib.correct(odom);
+        const Vec6d w = calib.sigma(odom).cwiseAbs2().cwiseInverse();
+        benchmark::DoNotOptimize(sqrtInfo(Mat6d(e.G * w.asDiagonal() * e.G)));
+        benchmark::DoNotOptimize(delta);
+        benchmark::DoNotOptimize(scan);
+        calib.update(odom, makePoseRPY(0.5, 0, 0, 0, 0, 0.01), held);
+        est.commit(cur, H);
+    }
+}
+BENCHMARK(BM_RiskAndWeight)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

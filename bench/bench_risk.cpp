@@ -1,4 +1,4 @@
-// Cost of the risk step (DESIGN §5) for one frame of ~2000 point-to-plane correspondences
+// Cost of the risk step (doc/method.md §1) for one frame of ~2000 point-to-plane correspondences
 // (a ray-cast corridor, as the localizer would feed it). Issue 5 asks for <= 1 ms per frame.
 #include <benchmark/benchmark.h>
 #include <superloc/risk/alignment_risk.h>

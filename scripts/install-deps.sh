@@ -9,7 +9,9 @@ PKGS=(cmake ninja-build g++ pkg-config
       librosbag-storage-dev pluginlib-dev libsensor-msgs-dev libnav-msgs-dev
       libgeometry-msgs-dev libtf2-msgs-dev
       # ROS 2 bags (.db3: SQLite; .mcap: zstd / lz4 chunks, CRC-32 from zlib)
-      libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev)
+      libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
+      # the browser test of report.html (tests/e2e/test_report_browser.cpp: headless Chromium)
+      chromium)
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 missing=()

@@ -36,5 +36,7 @@ cmake --build $B -j "$(nproc)"
 #   GlobalLocalization.*, GlobalSearchReal.*, KittiFixture.FarInitial*   global searches over the
 #                                           real splits (tens of seconds each in Release); the
 #                                           synthetic GlobalSearch.* and Health.* tests stay
-EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*)$'
+#   Docs.*CommandsRun (README's and doc/your-data.md's commands, ~1 min in Release: the apps'
+#                                           paths the e2e tests cover); the other Docs.* tests stay
+EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*|Docs\..*CommandsRun)$'
 cd $B && ctest --output-on-failure -j "$(nproc)" --timeout 900 -E "$EXCLUDE" "$@"

@@ -1,4 +1,4 @@
-// superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (DESIGN §8).
+// superloc-bench: a suite of sequences x methods -> results.md / results.json / plots (doc/evaluation.md).
 #include <superloc/core/errors.h>
 #include <superloc/app/bench_app.h>
 #include <superloc/app/eval_app.h>

@@ -1,4 +1,4 @@
-// superloc-eval: ATE, RPE, robustness (Rp, Rr), map outlier %, timing of one run (DESIGN §8-9).
+// superloc-eval: ATE, RPE, robustness (Rp, Rr), map outlier %, timing of one run (doc/evaluation.md).
 #include <superloc/core/errors.h>
 #include <superloc/app/eval_app.h>
 

@@ -1,4 +1,4 @@
-// superloc-localize: map-based LiDAR-inertial localization of a rawlog (DESIGN §9).
+// superloc-localize: map-based LiDAR-inertial localization of a rawlog (doc/localizer.md).
 #include <superloc/core/errors.h>
 #include <mrpt/system/os.h>
 #include <superloc/app/localize_app.h>

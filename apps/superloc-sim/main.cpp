@@ -1,4 +1,4 @@
-// superloc-sim: synthetic LiDAR + IMU + odom_alt sequences in degenerate worlds (DESIGN §7, §9).
+// superloc-sim: synthetic LiDAR + IMU + odom_alt sequences in degenerate worlds (doc/sim.md).
 #include <superloc/core/errors.h>
 #include <mrpt/system/progress.h>
 #include <superloc/app/sim_app.h>

@@ -1,4 +1,4 @@
-// The superloc-eval and superloc-bench executables: exit codes and one-line errors (DESIGN §9).
+// The superloc-eval and superloc-bench executables: exit codes and one-line errors (doc/design.md#9-command-line).
 #include <gtest/gtest.h>
 #include <superloc/app/process.h>
 #include <superloc_testing/testing.h>

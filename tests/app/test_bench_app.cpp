@@ -1,10 +1,11 @@
-// superloc-bench's runner end to end with stand-in tools (shell scripts honouring the DESIGN §9
+// superloc-bench's runner end to end with stand-in tools (shell scripts honouring the apps'
 // command lines), so the suite logic is tested without the real simulator and localizer.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <superloc/app/bench_app.h>
 #include <superloc/core/config.h>
 #include <superloc/app/process.h>
+#include <superloc/app/task_queue.h>
 #include <superloc_testing/testing.h>
 #include <sys/stat.h>
 
@@ -60,6 +61,61 @@ const char* kLocalize =
     "VIEWPOINT 0 0 0 1 0 0 0\\nPOINTS 3\\nDATA ascii\\n'; echo \"1 1 $Z\"; echo \"5 1 $Z\"; echo "
     "\"9 2 $Z\"; } > \"$OUT/localized_map.pcd\"\n"
     "exit $RC\n";
+
+// For the --jobs test, before kLocalize: every run marks its start in its sequence's folder;
+// when TOOLS/rendezvous exists, `good` waits (up to 20 s) for `lift` of its sequence to have
+// started and writes whether it did (`met`) into good.rendezvous: runs at the same time meet.
+// `hang` never finishes (the suite's timeout kills it).
+const char* kRendezvous =
+    "[ \"$METHOD\" = hang ] && exec sleep 60\n"
+    "mkdir -p \"$OUT\"; touch \"$OUT/../$METHOD.started\"\n"
+    "if [ \"$METHOD\" = good ] && [ -e \"$(dirname \"$0\")/rendezvous\" ]; then\n"
+    "  n=0; while [ ! -e \"$OUT/../lift.started\" ] && [ $n -lt 200 ]; do sleep 0.1; n=$((n+1)); done\n"
+    "  if [ -e \"$OUT/../lift.started\" ]; then echo met; else echo alone; fi > \"$OUT/../good.rendezvous\"\n"
+    "fi\n";
+
+/// results.md without what may differ between --jobs 1 and --jobs N: the first line (command,
+/// date), the note on shared cores, and the Runs table's wall time and peak memory (and without
+/// blank lines).
+std::string withoutTimes(const std::string& md) {
+    std::istringstream in(md);
+    std::string out;
+    bool in_runs = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty() || line.rfind("Produced by", 0) == 0 || line.find("(--jobs)") != std::string::npos)
+            continue;
+        if (line.rfind("## ", 0) == 0) in_runs = line == "## Runs";
+        if (in_runs && (line.rfind("| ", 0) == 0 || line.rfind("|---", 0) == 0)) {
+            for (int cut = 0; cut < 2; ++cut) line.erase(line.rfind('|', line.size() - 2) + 1);
+        }
+        out += line + "\n";
+    }
+    return out;
+}
+
+/// results.json without its timing figures (the number of jobs, wall time and peak memory).
+nlohmann::json jsonWithoutTimes(const std::string& text) {
+    auto j = nlohmann::json::parse(text);
+    j.erase("jobs");
+    for (auto& r : j["runs"]) r.erase("wall_s"), r.erase("peak_rss_mb");
+    return j;
+}
+
+/// A suite of two stand-in sequences in `d`, with these methods.
+std::string writeTwoSequenceSuite(const std::string& d, const std::string& methods, int timeout) {
+    const std::string tools = d + "/tools";
+    fs::create_directories(tools);
+    writeScript(tools + "/superloc-sim", std::string(kParse) + kSim);
+    writeScript(tools + "/superloc-localize", std::string(kParse) + kRendezvous + kLocalize);
+    std::ofstream(d + "/localize.ini") << "[localization]\n";
+    std::ofstream(d + "/world.ini") << "[sim]\n";
+    std::ofstream(d + "/suite.ini") << "[suite]\nmethods = " << methods
+                                    << "\nsequences = plane hall\nlocalize_config = localize.ini\n"
+                                    << "timeout = " << timeout << "\n[seq.plane]\ntype = sim\n"
+                                    << "config = world.ini\nseed = 3\n[seq.hall]\ntype = sim\n"
+                                    << "config = world.ini\nseed = 4\n";
+    return tools;
+}
 }  // namespace
 
 TEST(BenchApp, RunsASuiteWithStandInTools) {
@@ -153,4 +209,87 @@ TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
         EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--localize-set", bad}),
                      std::invalid_argument)
             << bad;
+}
+
+TEST(BenchApp, JobsGiveTheResultsOfOneJob) {
+    const std::string d = superloc::testing::freshDir("bench_app_jobs");
+    const std::string tools = writeTwoSequenceSuite(d, "good lift stop", 60);
+    BenchApp one, two;
+    one.initialize({d + "/suite.ini", "--out", d + "/one", "--tools", tools, "--jobs", "1"});
+    std::ostringstream log1, log2;
+    EXPECT_EQ(one.run(log1), 0) << log1.str();
+    // With two jobs, a sequence's `good` waits for its `lift` to start: they run together, so
+    // `lift` finishes first, and the results must still come in the suite's order.
+    std::ofstream(tools + "/rendezvous") << "1\n";
+    two.initialize({d + "/suite.ini", "--out", d + "/two", "--tools", tools, "--jobs", "2"});
+    EXPECT_EQ(two.run(log2), 0) << log2.str();
+    for (const char* seq : {"plane", "hall"})
+        EXPECT_EQ(slurp(d + "/two/runs/" + seq + "/good.rendezvous"), "met\n") << seq << "\n" << log2.str();
+
+    ASSERT_EQ(one.runs.size(), 6u);
+    ASSERT_EQ(two.runs.size(), one.runs.size());
+    for (size_t i = 0; i < one.runs.size(); ++i) {
+        EXPECT_EQ(two.runs[i].sequence, one.runs[i].sequence) << i;
+        EXPECT_EQ(two.runs[i].method, one.runs[i].method) << i;
+        EXPECT_EQ(two.runs[i].status, one.runs[i].status) << i;
+    }
+    EXPECT_EQ(one.runs[2].status, "exit 3");  // a failed child is reported the same way
+    EXPECT_EQ(two.plots, one.plots);
+    const std::string md1 = slurp(d + "/one/results.md"), md2 = slurp(d + "/two/results.md");
+    EXPECT_EQ(withoutTimes(md2), withoutTimes(md1));
+    EXPECT_NE(withoutTimes(md1).find("| good | **0.00** | **0.00** |"), std::string::npos) << md1;
+    EXPECT_NE(withoutTimes(md1).find("| hall | stop | exit 3 | 6/11 |"), std::string::npos)
+        << withoutTimes(md1);
+    // Only the parallel run says its times were measured on shared cores.
+    EXPECT_EQ(md1.find("(--jobs)"), std::string::npos);
+    EXPECT_NE(md2.find("2 runs at a time (--jobs) shared the machine's cores"), std::string::npos);
+    const std::string js1 = slurp(d + "/one/results.json"), js2 = slurp(d + "/two/results.json");
+    EXPECT_EQ(jsonWithoutTimes(js2), jsonWithoutTimes(js1));
+    EXPECT_EQ(nlohmann::json::parse(js1)["jobs"], 1);
+    EXPECT_EQ(nlohmann::json::parse(js2)["jobs"], 2);
+    for (const char* f : {"plane_good_top.svg", "hall_lift_gamma.svg", "hall_f1_rot.svg"})
+        EXPECT_EQ(slurp(d + "/two/" + f), slurp(d + "/one/" + f)) << f;
+    // Every progress line is whole and names its run.
+    EXPECT_NE(log2.str().find("  hall / lift: ok, ATE 0.200 m"), std::string::npos) << log2.str();
+}
+
+TEST(BenchApp, JobsKeepThePerChildTimeout) {
+    const std::string d = superloc::testing::freshDir("bench_app_jobs_timeout");
+    const std::string tools = writeTwoSequenceSuite(d, "hang good", 1);
+    BenchApp app;
+    app.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--jobs", "3"});
+    std::ostringstream log;
+    EXPECT_EQ(app.run(log), 2) << log.str();  // the hung runs left no trajectory
+    ASSERT_EQ(app.runs.size(), 4u);
+    for (size_t i : {0u, 2u}) {
+        EXPECT_EQ(app.runs[i].method, "hang");
+        EXPECT_EQ(app.runs[i].status, "timeout after 1 s; no trajectory") << i;
+    }
+    for (size_t i : {1u, 3u}) EXPECT_EQ(app.runs[i].status, "ok") << i;
+}
+
+TEST(BenchApp, BadJobsAreRejectedNamingTheFlag) {
+    const std::string d = superloc::testing::freshDir("bench_app_bad_jobs");
+    writeTwoSequenceSuite(d, "good", 60);
+    for (const std::vector<std::string>& bad :
+         {std::vector<std::string>{"--jobs", "0"}, {"--jobs", "-1"}, {"--jobs=-1"}, {"--jobs", "text"},
+          {"--jobs", "2.5"}, {"--jobs", "4096"}, {"--jobs"}}) {
+        std::vector<std::string> args = {d + "/suite.ini", "--out", d + "/out"};
+        args.insert(args.end(), bad.begin(), bad.end());
+        try {
+            BenchApp().initialize(args);
+            ADD_FAILURE() << bad.back() << " was accepted";
+        } catch (const std::exception& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find("--jobs"), std::string::npos) << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+        }
+    }
+    BenchApp ok;
+    ok.initialize({d + "/suite.ini", "--out", d + "/out", "--jobs", "3"});
+    EXPECT_EQ(ok.jobs, 3u);
+    BenchApp by_default;
+    by_default.initialize({d + "/suite.ini", "--out", d + "/out"});
+    EXPECT_EQ(by_default.jobs, 0u);  // one per core
+    EXPECT_GE(availableCores(), 1u);
 }

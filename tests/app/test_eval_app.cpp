@@ -86,10 +86,11 @@ TEST(EvalApp, FramesGiveTheRiskPredictionTable) {
     io::saveTum(dir + "/est.tum", est);
     {
         std::ofstream f(dir + "/frames.csv");
-        f << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n";
+        f << "t,ms_total,flags_labels1,flags_labels2,flags_eigen,degenerate\n";
         for (size_t i = 0; i < est.size(); ++i) {
             const char* flag = i < 4 || i == 8 ? "x" : "";
-            f << std::setprecision(17) << est[i].t << ",5," << flag << "," << flag << ",\n";
+            const char* weak = i < 8 ? "x" : "";  // the estimate's decision: every failed frame
+            f << std::setprecision(17) << est[i].t << ",5," << flag << "," << flag << ",," << weak << "\n";
         }
     }
     // Expected by hand from the geometry: frame i failed along body x when
@@ -110,6 +111,9 @@ TEST(EvalApp, FramesGiveTheRiskPredictionTable) {
     EXPECT_EQ(x["fp"].get<size_t>(), fp);
     EXPECT_EQ(x["fn"].get<size_t>(), fn);
     EXPECT_EQ(json["risk_prediction"]["flags_eigen"]["x"]["tp"].get<size_t>(), 0u);
+    const auto& d = json["risk_prediction"]["degenerate"]["x"];
+    EXPECT_EQ(d["tp"].get<size_t>() + d["fn"].get<size_t>(), tp + fn);
+    EXPECT_EQ(d["fn"].get<size_t>(), 0u);
 }
 
 TEST(EvalApp, BadCommandLinesAreOneLineErrors) {

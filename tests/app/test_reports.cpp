@@ -88,8 +88,8 @@ TEST(FrameLog, ReadsTheRuleColumns) {
     const std::string dir = superloc::testing::freshDir("eval_frame_log_rules");
     const std::string path = dir + "/frames.csv";
     {
-        std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n"
-                            << "1,10,xyaw,x,\n2,10,,,rollpitch\n";
+        std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen,degenerate\n"
+                            << "1,10,xyaw,x,,z\n2,10,,,rollpitch,\n";
     }
     const FrameLog log = loadFrameLog(path);
     ASSERT_TRUE(log.has_rules);
@@ -98,7 +98,10 @@ TEST(FrameLog, ReadsTheRuleColumns) {
     EXPECT_EQ(log.frames[0].rule_flags[1], parseDegenerateAxes("x"));
     EXPECT_EQ(log.frames[0].rule_flags[2], parseDegenerateAxes(""));
     EXPECT_EQ(log.frames[1].rule_flags[2], parseDegenerateAxes("rollpitch"));
-    { std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen\n1,10,x,q,\n"; }
+    // The fourth rule is the frame's decision, `degenerate` (the estimate's weak axes).
+    EXPECT_EQ(log.frames[0].rule_flags[3], parseDegenerateAxes("z"));
+    EXPECT_EQ(log.frames[1].rule_flags[3], parseDegenerateAxes(""));
+    { std::ofstream(path) << "t,ms_total,flags_labels1,flags_labels2,flags_eigen,degenerate\n1,10,x,q,,\n"; }
     try {
         loadFrameLog(path);
         FAIL() << "no error";

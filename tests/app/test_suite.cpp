@@ -121,6 +121,26 @@ TEST(Process, ExitCodesLogsAndTimeout) {
     EXPECT_EQ(findTool("superloc-no-such-tool", d), "");
 }
 
+// The peak memory is the child program's own: not the parent's, which a forked child shares
+// until its exec (rusage's ru_maxrss counts it: a 300 MiB parent made every child 300 MiB).
+TEST(Process, PeakMemoryIsTheChildProgramsOwn) {
+    const std::string d = superloc::testing::freshDir("eval_process_memory");
+    std::vector<char> parent(300u << 20);
+    for (size_t i = 0; i < parent.size(); i += 4096) parent[i] = static_cast<char>(i >> 12);
+    const ProcessResult small = runProcess({"/bin/sh", "-c", "exec sleep 0.3"}, d + "/a.log", 10);
+    ASSERT_TRUE(small.ok());
+    EXPECT_GT(small.peak_rss_mb, 0.0);
+    EXPECT_LT(small.peak_rss_mb, 50.0);
+    // A child that holds 200 MiB for a while (python3 is a build dependency).
+    const ProcessResult big = runProcess(
+        {"/usr/bin/python3", "-c", "import time; b = bytearray(200 << 20); time.sleep(0.3)"},
+        d + "/b.log", 30);
+    ASSERT_TRUE(big.ok()) << slurp(d + "/b.log");
+    EXPECT_GT(big.peak_rss_mb, 200.0);
+    EXPECT_LT(big.peak_rss_mb, 290.0);
+    EXPECT_NE(parent[4096], 5);  // keeps the parent's pages alive until here
+}
+
 TEST(BenchReport, TableShapeBestValuesAndFailures) {
     auto run = [](const std::string& seq, const std::string& m, double ate, double out,
                   const std::string& st) {

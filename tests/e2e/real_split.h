@@ -1,4 +1,4 @@
-// The honest real-data protocol of the e2e tests (DESIGN §8): a real sequence imported once,
+// The honest real-data protocol of the e2e tests (doc/design.md#8-evaluation): a real sequence imported once,
 // its prior map built from one subset of its scans (even) at their GT poses, and another subset
 // (odd) localized in it. Nothing here localizes a scan in a map that holds it.
 #pragma once

@@ -245,6 +245,8 @@ TEST_F(KittiFixture, TiledMapFollowsTheRobot) {
     EXPECT_GE(t.map_reloads, 2u);
     EXPECT_LT(t.map_points, w.map_points);
     EXPECT_LT(t.ate_rmse, w.ate_rmse + 0.05) << "tiled " << t.ate_rmse << " m, whole " << w.ate_rmse << " m";
+    // report.html draws the tiles along the route (read again at the end).
+    EXPECT_TRUE(fs::exists(dir + "/out-tiled/report.html"));
     std::cout << "kitti split in 10 m tiles within 60 m: ATE " << t.ate_rmse << " m (whole map " << w.ate_rmse
               << " m), " << t.map_reloads << " reloads, first map " << t.map_points << " of " << w.map_points
               << " points\n";

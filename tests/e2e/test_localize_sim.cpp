@@ -51,13 +51,16 @@ TEST(LocalizeSim, OfficeWithImuTracksGroundTruth) {
 }
 
 // Active fusion end to end: 30 s down a 150 m corridor with no door recesses (VLP-16, odom_alt
-// drifting 2 %/m). The scan says nothing along x for ~25 s.
-// - With the IMU (and its velocity carried by the marginalized window, doc/method.md §3) the
-//   IMU alone bridges the corridor: icp and superloc both hold (measured ATE 0.031 / 0.037 m;
-//   with the old fixed-sigma window icp drifted to 1.10 m, superloc 0.068 m).
+// drifting 2 %/m). The scan says nothing along x for ~25 s (doc/method.md §2).
+// - With the IMU (its velocity carried by the marginalized window, doc/method.md §3) the IMU
+//   bridges the corridor: icp holds (measured ATE 0.031 m). superloc fuses odom_alt only where
+//   the estimate (scan + IMU window) is weak, calibrated on the frames the scan held: never worse
+//   than icp (measured 0.023 m; the paper's scan-only weighting, fusing the raw odom_alt on
+//   every flagged frame, gave 0.037 m).
 // - Without IMU (LiDAR + a second odometry) icp's x is dragged by the scan's spurious x
-//   information at constant velocity and drifts by metres, superloc flags x and takes it from
-//   odom_alt. Measured: icp 5.83 m, superloc 0.48 m.
+//   information at constant velocity and drifts by metres; superloc predicts with the
+//   calibrated odom_alt and fuses it along x. Measured: icp 5.83 m, superloc 0.041 m (the
+//   paper's weighting: 0.48 m).
 TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
     const std::string dir = superloc::testing::freshDir("e2e_sim_corridor");
     if (!simulate(dir, "ini/sim/corridor.ini",
@@ -70,45 +73,53 @@ TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
     const std::vector<std::string> no_imu = {"--set", "localization.use_imu=false"};
     const auto icp_lo = localize(dir, "icp", no_imu, "-noimu");
     const auto sl_lo = localize(dir, "superloc", no_imu, "-noimu");
-    EXPECT_LT(sl_lo.ate, 0.7) << "superloc ATE RMSE [m] without IMU";
-    EXPECT_GT(icp_lo.ate, 3 * sl_lo.ate) << "icp ATE RMSE [m] without IMU: the corridor should degrade it";
-    EXPECT_EQ(sl_lo.summary.with_prior, sl_lo.summary.frames - 1);
+    EXPECT_LT(sl_lo.ate, 0.1) << "superloc ATE RMSE [m] without IMU";
+    EXPECT_GT(icp_lo.ate, 10 * sl_lo.ate) << "icp ATE RMSE [m] without IMU: the corridor should degrade it";
+    EXPECT_LE(sl_lo.summary.flagged_without_prior, 1u);
     EXPECT_GE(sl.summary.frames, 290u);
     EXPECT_EQ(sl.summary.diverged, 0u);
-    EXPECT_LT(sl.ate, 0.15) << "superloc ATE RMSE [m]";
+    EXPECT_LT(sl.ate, icp.ate + 0.01) << "superloc ATE RMSE [m] with IMU, against icp's";
     EXPECT_LT(sl.worst_m, 0.4) << "superloc worst frame [m]";
-    // The run summary counts what the risk step did: superloc fused odom_alt on every flagged
-    // frame but the first, icp on none (its flags are reported all the same).
-    EXPECT_GE(sl.summary.flagged_axis[0], 250u);
-    EXPECT_EQ(sl.summary.with_prior, sl.summary.frames - 1);
+    // The run summary counts what the risk step decided: superloc fused odom_alt on every
+    // frame where the estimate was weak, icp on none (its weak axes are reported all the
+    // same). With the IMU the estimate is weak along x on fewer frames than without it: the IMU
+    // window holds x for a while after the scan stops holding it.
     EXPECT_LE(sl.summary.flagged_without_prior, 1u);
     EXPECT_EQ(icp.summary.with_prior, 0u);
     EXPECT_EQ(icp.summary.flagged_without_prior, icp.summary.flagged);
-    EXPECT_GE(icp.summary.flagged, 250u);
+    EXPECT_GT(icp.summary.flagged, 0u);
+    EXPECT_LT(sl.summary.flagged_axis[0], sl_lo.summary.flagged_axis[0] * 2 / 3);
 
-    // Inside the corridor (10 m < x < 140 m): x flagged, superloc's prior on x only, and the
-    // classic analysis agrees: the weakest translation direction is the corridor axis. The same
-    // fields are frames.csv columns.
-    std::ifstream csv(dir + "/superloc/frames.csv");
+    // Inside the corridor (10 m < x < 140 m) without IMU, on the frames where the scan's share of
+    // translation information along its weakest direction (the corridor axis, classic analysis)
+    // is below the noise floor ([risk] normal_noise_deg = 4: sin^2 = 0.0049; the end walls are
+    // within the VLP-16's 100 m for much of this corridor and hold x above it elsewhere): x weak,
+    // and superloc's prior along x only. The same fields are frames.csv columns.
+    std::ifstream csv(dir + "/superloc-noimu/frames.csv");
     std::string header;
     ASSERT_TRUE(std::getline(csv, header));
-    for (const char* c : {",x,", ",degenerate,", ",prior_w_x,", ",prior_w_y,", ",weak_t_x,", ",trans_eig_1,"})
+    for (const char* c : {",x,", ",degenerate,", ",prior_w_x,", ",prior_w_y,", ",weak_t_x,", ",trans_eig_1,",
+                          ",est_sigma_x,"})
         EXPECT_NE(header.find(c), std::string::npos) << c;
-    size_t inside = 0, flagged = 0, prior_x_only = 0, weak_along_x = 0;
-    for (const auto& f : sl.frames) {
+    size_t inside = 0, blind = 0, flagged = 0, prior_x_only = 0;
+    for (const auto& f : sl_lo.frames) {
         const double x = f.T_map_lidar.translation().x();
         if (x < 10 || x > 140) continue;
         inside++;
+        if (!(std::abs(f.weakest_translation.x()) > 0.95 && f.translation_eigenvalues[0] < 0.004)) continue;
+        blind++;
         flagged += f.degenerate_axes == "x";
-        prior_x_only += f.prior_weight[0] > 0 && f.prior_weight[1] == 0;
-        weak_along_x += std::abs(f.weakest_translation.x()) > 0.95 && f.translation_eigenvalues[0] < 0.05;
+        prior_x_only += f.prior_weight[0] > 0 && f.prior_weight[1] < 0.01 * f.prior_weight[0] &&
+                        f.prior_weight[2] < 0.01 * f.prior_weight[0];
     }
     EXPECT_GT(inside, 200u);
-    EXPECT_GE(flagged, inside * 95 / 100);  // measured: 261 of 261
-    EXPECT_GE(prior_x_only, inside * 95 / 100);
-    EXPECT_GE(weak_along_x, inside * 95 / 100);  // measured: 258 of 261 (share median 0.008)
+    EXPECT_GT(blind, 50u);
+    EXPECT_GE(flagged, blind * 95 / 100);
+    EXPECT_GE(prior_x_only, blind * 95 / 100);
     std::cout << "sim featureless corridor 30 s: ATE with IMU icp " << icp.ate << " m, superloc " << sl.ate
-              << " m; without IMU icp " << icp_lo.ate << " m, superloc " << sl_lo.ate << " m\n";
+              << " m; without IMU icp " << icp_lo.ate << " m, superloc " << sl_lo.ate << " m; inside " << inside
+              << ", scan blind along x " << blind << ": x weak " << flagged << ", prior along x " << prior_x_only
+              << "\n";
 }
 
 // The gyro drift check (doc/health.md, [health] drift_window / max_drift_deg) on the case it was

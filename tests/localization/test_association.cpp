@@ -132,12 +132,30 @@ TEST(RunOutputs, CsvLineMatchesHeader) {
     EXPECT_EQ(count(line), count(framesCsvHeader()));
     EXPECT_EQ(line.rfind("12.500000000,1.000000,2.000000,3.000000,", 0), 0u) << line;
     EXPECT_NE(line.find(",xyaw,"), std::string::npos);
-    // The IMU biases are the last six columns: accelerometer, then gyroscope.
+    // The IMU biases: accelerometer, then gyroscope; the estimate's std per axis (inf where
+    // nothing holds it) after them.
     r.bias.acc = Vec3d(0.0166, -0.0237, 0.5);
     r.bias.gyro = Vec3d(1e-4, 0, -2.5e-3);
-    const std::string with_bias = framesCsvLine(r, SE3d::Identity());
-    const std::string header = framesCsvHeader();
-    EXPECT_EQ(header.substr(header.size() - 47), "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz");
-    EXPECT_EQ(with_bias.substr(with_bias.size() - 52),
-              "0.01660,-0.02370,0.50000,0.000100,0.000000,-0.002500") << with_bias;
+    r.est_sigma << 0.01, 0.002, 0.003, 1e-4, 2e-4, std::numeric_limits<double>::infinity();
+    const auto split = [](const std::string& s) {
+        std::vector<std::string> out(1);
+        for (char c : s) {
+            if (c == ',')
+                out.emplace_back();
+            else
+                out.back().push_back(c);
+        }
+        return out;
+    };
+    const auto head = split(framesCsvHeader()), cells = split(framesCsvLine(r, SE3d::Identity()));
+    ASSERT_EQ(head.size(), cells.size());
+    const auto at = [&](const std::string& name) {
+        const auto it = std::find(head.begin(), head.end(), name);
+        return it == head.end() ? std::string("(no column ") + name + ")" : cells[size_t(it - head.begin())];
+    };
+    const char* bias[6] = {"bias_ax", "bias_ay", "bias_az", "bias_gx", "bias_gy", "bias_gz"};
+    const char* want[6] = {"0.01660", "-0.02370", "0.50000", "0.000100", "0.000000", "-0.002500"};
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(at(bias[k]), want[k]) << bias[k];
+    EXPECT_EQ(at("est_sigma_x"), "0.01");
+    EXPECT_EQ(at("est_sigma_yaw"), "inf");
 }

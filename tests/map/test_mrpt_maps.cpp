@@ -164,7 +164,7 @@ TEST(MrptMaps, PointsMapFilesBothWays) {
 }
 
 // The apps: superloc-map --simplemap, and superloc-localize --map X.simplemap localizing the
-// same 4 KITTI scans (a circular sanity check: the map holds those scans, DESIGN §8).
+// same 4 KITTI scans (a circular sanity check: the map holds those scans, doc/design.md#8-evaluation).
 TEST(MrptMaps, AppsTakeASimpleMap) {
     SUPERLOC_REQUIRE_DATA("kitti00-mini");
     const std::string map_exe = superloc::testing::appPath("superloc-map");

@@ -1,4 +1,4 @@
-// Global search on real data, honest protocol only (DESIGN §8): the prior map is built from one
+// Global search on real data, honest protocol only (doc/design.md#8-evaluation): the prior map is built from one
 // half of a sequence's scans (tests/e2e/real_split.h) and every scan of the other half is
 // localized in it with no initial pose and no IMU (gravity from the scan's ground plane).
 // Measured numbers: doc/relocalization.md.

@@ -193,7 +193,8 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
     return md;
 }
 
-std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path) {
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
+                        unsigned jobs) {
     io::Json list = io::Json::array();
     for (const auto& r : runs)
         list.push_back({{"sequence", r.sequence},
@@ -203,7 +204,52 @@ std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& s
                         {"peak_rss_mb", r.peak_rss_mb},
                         {"gt_length_m", r.gt_length_m},
                         {"metrics", r.result ? eval::toJson(*r.result, false) : io::Json(nullptr)}});
-    return io::toJsonText({{"suite", suite_path}, {"runs", list}}, "results.json");
+    return io::toJsonText({{"suite", suite_path}, {"jobs", jobs}, {"runs", list}}, "results.json");
+}
+
+std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vector<SeedGroup>& groups,
+                              const std::vector<std::string>& methods) {
+    bool any = false;
+    for (const auto& g : groups) any |= g.members.size() > 1;
+    if (!any) return "";
+    std::string md;
+    const auto table = [&](const std::string& title, const char* f,
+                           const std::function<std::optional<double>(const RunRecord&)>& get) {
+        md += "\n## " + title + ", mean over seeds (min – max)\n\n| Method |";
+        std::string rule = "|---|";
+        for (const auto& g : groups)
+            if (g.members.size() > 1) md += " " + g.name + " |", rule += "---:|";
+        md += "\n" + rule + "\n";
+        for (const auto& m : methods) {
+            md += "| " + m + " |";
+            for (const auto& g : groups) {
+                if (g.members.size() <= 1) continue;
+                double sum = 0, lo = std::numeric_limits<double>::infinity(), hi = -lo;
+                size_t n = 0;
+                for (const auto& seq : g.members)
+                    if (const RunRecord* r = find(runs, seq, m); r && r->status == "ok")
+                        if (const auto v = get(*r); v && std::isfinite(*v))
+                            sum += *v, lo = std::min(lo, *v), hi = std::max(hi, *v), ++n;
+                std::string cell = "–";
+                if (n > 0) {
+                    cell = fmt(f, sum / double(n)) + " (" + fmt(f, lo) + " – " + fmt(f, hi) + ")";
+                    if (n < g.members.size())
+                        cell += " [" + std::to_string(n) + " of " + std::to_string(g.members.size()) + "]";
+                }
+                md += " " + cell + " |";
+            }
+            md += "\n";
+        }
+    };
+    table("ATE RMSE [m]", "%.3f", [](const RunRecord& r) -> std::optional<double> {
+        if (r.result && r.result->matched_frames) return r.result->ate.trans.rmse;
+        return std::nullopt;
+    });
+    table("Map outliers [%]", "%.2f", [](const RunRecord& r) -> std::optional<double> {
+        if (r.result && r.result->map) return r.result->map->outlier_percent;
+        return std::nullopt;
+    });
+    return md;
 }
 
 }  // namespace superloc::app

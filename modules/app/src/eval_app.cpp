@@ -27,7 +27,7 @@ struct EvalFlags {
 };
 
 void defineCommandLine(CLI::App& cli, EvalApp& app, EvalFlags& f) {
-    cli.description("Evaluates an estimated trajectory (and map) against ground truth (DESIGN §8).");
+    cli.description("Evaluates an estimated trajectory (and map) against ground truth (doc/evaluation.md).");
     cli.add_option("--est", app.est_path, "estimated trajectory (TUM: t x y z qx qy qz qw)")->type_name("TUM");
     cli.add_option("--gt", app.gt_path, "ground-truth trajectory")->type_name("TUM");
     cli.add_option("--est-map", app.est_map_path, "localized map (.pcd/.ply/...), with --gt-map: map outlier %");

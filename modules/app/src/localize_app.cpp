@@ -7,6 +7,7 @@
 #include <superloc/eval/timing.h>
 #include <superloc/eval/trajectory_metrics.h>
 #include <superloc/io/map_tiles.h>
+#include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 #include <superloc/localization/map_tile_follower.h>
 #include <superloc/app/localize_app.h>
@@ -31,6 +32,7 @@ void RunParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     initial_pose_tum = c.read_string(s, "initial_pose_tum", initial_pose_tum);
     MRPT_LOAD_CONFIG_VAR(localized_map_voxel, double, c, s);
     MRPT_LOAD_CONFIG_VAR(save_localized_map, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(save_report, bool, c, s);
 }
 
 void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -41,6 +43,7 @@ void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(initial_pose_tum, "TUM file: its pose at the first scan's time is the initial pose");
     MRPT_SAVE_CONFIG_VAR_COMMENT(localized_map_voxel, "[m] voxel of localized_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(save_localized_map, "write localized_map.pcd");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(save_report, "write report.html (the run at a glance) at the end");
 }
 
 void RunParams::validate() const {
@@ -79,7 +82,8 @@ struct LocalizeArgs {
 void defineCommandLine(CLI::App& cli, LocalizeArgs& a) {
     cli.description(
         "Localizes every LiDAR scan of the rawlog in the prior map and writes DIR/trajectory.tum,\n"
-        "DIR/frames.csv, DIR/summary.json, DIR/localized_map.pcd, DIR/observability_scan.ply.\n"
+        "DIR/frames.csv, DIR/summary.json, DIR/localized_map.pcd, DIR/observability_scan.ply,\n"
+        "DIR/report.html.\n"
         "Flags override the INI keys of [run] and [localization] method.");
     cli.add_option("CONFIG.ini", a.config, "the configuration (e.g. ini/localize.ini)")->required();
     cli.add_option("--rawlog", a.rawlog, "input rawlog ([run] rawlog)");
@@ -224,7 +228,11 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     if (!T0_tum.empty()) loc.setInitialPose(T0_tum, run_.initial_pose_tum);
     io::RawlogReader reader(run_.rawlog, rawlog_);
     reader.logger().setMinLoggingLevel(getMinLoggingLevel());  // --quiet: errors only
-    RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0);
+    RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0, run_.save_report);
+    if (RunReport* report = out.report()) {
+        report->setInputs({{"configuration", config_path_}, {"rawlog", run_.rawlog}, {"map", run_.map}});
+        report->addMapPoints(prior->points());
+    }
     const bool body = loc_.loc.output_frame == "body";
     // Observability scan: correspondence points coloured by translation label.
     ObservabilityScan obs_scan(std::max(0.05, run_.localized_map_voxel));
@@ -276,6 +284,15 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
             summary_.gt_matched = ate.trans.n;
             if (ate.trans.n) summary_.ate_rmse = ate.trans.rmse, summary_.ate_max = ate.trans.max;
         }
+        // A tiled map: the report's map is every tile the run came near, not only the first ones.
+        if (RunReport* report = out.report(); report && tiles)
+            for (const auto& file : tilesAlong(tiles->tiles().index(), report->frames(), tiles->tiles().radius())) {
+                try {
+                    report->addMapPoints(io::loadPointCloud(file).points);
+                } catch (const std::exception& e) {
+                    MRPT_LOG_WARN_FMT("report.html: map tile left out: %s", oneLineError(e).c_str());
+                }
+            }
         out.finish(summary_);
         obs_scan.write(obs_path);
     };

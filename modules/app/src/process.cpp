@@ -1,25 +1,51 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <superloc/app/process.h>
-#include <sys/resource.h>
 #include <sys/time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <cerrno>
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <thread>
 
 namespace superloc::app {
 namespace fs = std::filesystem;
 namespace {
-volatile sig_atomic_t g_child = 0;  ///< pid of the running child, 0 when none
+// The pids of the running children (0: a free slot), one per concurrent runProcess
+// (superloc-bench --jobs). Lock-free atomics, so the signal handler may read them.
+std::atomic<pid_t> g_children[kMaxChildren] = {};
+static_assert(std::atomic<pid_t>::is_always_lock_free);
 
 void onTermination(int sig) {
-    if (g_child > 0) ::kill(static_cast<pid_t>(g_child), SIGKILL);
+    for (auto& c : g_children)
+        if (const pid_t pid = c.load(); pid > 0) ::kill(pid, SIGKILL);
     ::_exit(128 + sig);
+}
+
+/// Remembers a child for onTermination; the slot, or nullptr when all are taken (more than
+/// kMaxChildren at once: that child is not killed on a signal).
+std::atomic<pid_t>* registerChild(pid_t pid) {
+    for (auto& c : g_children) {
+        pid_t free_slot = 0;
+        if (c.compare_exchange_strong(free_slot, pid)) return &c;
+    }
+    return nullptr;
+}
+
+/// [MiB] VmHWM (peak resident memory) of a running process's current program, 0 when it cannot
+/// be read (e.g. the process has exited).
+double peakResidentMiB(pid_t pid) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+        if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;  // kB
+    return 0;
 }
 }  // namespace
 
@@ -40,10 +66,17 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
     cargs.push_back(nullptr);
     const int log_fd = ::open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (log_fd < 0) return r;
+    // Closed by a successful exec: the parent reads end-of-file once the child runs its program
+    // (or the child's errno when exec failed).
+    int exec_pipe[2];
+    if (::pipe2(exec_pipe, O_CLOEXEC) != 0) {
+        ::close(log_fd);
+        return r;
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const pid_t pid = ::fork();
     if (pid < 0) {
-        ::close(log_fd);
+        ::close(log_fd), ::close(exec_pipe[0]), ::close(exec_pipe[1]);
         return r;
     }
     if (pid == 0) {  // child: output to the log, then exec
@@ -52,14 +85,26 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         const int devnull = ::open("/dev/null", O_RDONLY);
         if (devnull >= 0) ::dup2(devnull, STDIN_FILENO);
         ::execvp(cargs[0], cargs.data());
+        const int err = errno;
+        [[maybe_unused]] const ssize_t n = ::write(exec_pipe[1], &err, sizeof err);
         ::_exit(127);
     }
     ::close(log_fd);
-    g_child = pid;
+    ::close(exec_pipe[1]);
+    std::atomic<pid_t>* slot = registerChild(pid);
+    int exec_errno = 0;
+    ssize_t got;
+    while ((got = ::read(exec_pipe[0], &exec_errno, sizeof exec_errno)) < 0 && errno == EINTR) {
+    }
+    ::close(exec_pipe[0]);
+    const bool exec_failed = got == static_cast<ssize_t>(sizeof exec_errno);
     int status = 0;
-    struct rusage ru {};
     for (;;) {
-        const pid_t w = ::wait4(pid, &status, WNOHANG, &ru);
+        // The peak memory of the child's program, read while it runs: rusage's ru_maxrss would
+        // also count the pages the child had from this process at fork, i.e. the bench's own
+        // memory (and with --jobs, whatever the other runs' evaluations hold at that moment).
+        if (!exec_failed) r.peak_rss_mb = std::max(r.peak_rss_mb, peakResidentMiB(pid));
+        const pid_t w = ::waitpid(pid, &status, WNOHANG);
         if (w == pid) break;
         const double elapsed =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -69,14 +114,13 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    g_child = 0;
+    if (slot) slot->store(0);
     r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    r.peak_rss_mb = double(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
     if (WIFEXITED(status))
         r.exit_code = WEXITSTATUS(status);
     else if (WIFSIGNALED(status))
         r.exit_code = 128 + WTERMSIG(status);
-    r.started = r.exit_code != 127;
+    r.started = !exec_failed;
     return r;
 }
 

@@ -54,11 +54,7 @@ std::string gammaTimelineSvg(const eval::FrameLog& log, double threshold, const 
     const double t1 = log.frames.empty() ? 1 : log.frames.back().t;
     std::vector<double> ts;
     for (const auto& f : log.frames) ts.push_back(f.t - t0);
-    // Half the median frame period: the shaded span of one flagged frame.
-    std::vector<double> dts;
-    for (size_t i = 1; i < ts.size(); ++i) dts.push_back(ts[i] - ts[i - 1]);
-    std::sort(dts.begin(), dts.end());
-    const double half = dts.empty() ? 0.05 : 0.5 * dts[dts.size() / 2];
+    const double half = halfFramePeriod(ts);  // the shaded span of one flagged frame
     for (int k = 0; k < 6; ++k) {
         SvgPlot p(720, k == 5 ? 130 : 110,
                   k == 0 ? title + " — " + kAxisNames[k] : std::string(kAxisNames[k]));
@@ -109,6 +105,13 @@ std::vector<double> minTranslationGamma(const Trajectory& traj, const eval::Fram
             }
     }
     return out;
+}
+
+double halfFramePeriod(const std::vector<double>& ts) {
+    std::vector<double> dts;
+    for (size_t i = 1; i < ts.size(); ++i) dts.push_back(ts[i] - ts[i - 1]);
+    std::sort(dts.begin(), dts.end());
+    return dts.empty() ? 0.05 : 0.5 * dts[dts.size() / 2];
 }
 
 void writeTextFile(const std::string& path, const std::string& text) {

@@ -1,6 +1,7 @@
 #include <superloc/io/json_file.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
+#include <superloc/app/report_plots.h>
 #include <superloc/app/run_outputs.h>
 
 #include <algorithm>
@@ -28,7 +29,7 @@ std::string framesCsvHeader() {
            "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz,"
            "scan_info_x,scan_info_y,scan_info_z,scan_info_roll,scan_info_pitch,scan_info_yaw,"
            "scan_sigma_x,scan_sigma_y,scan_sigma_z,scan_sigma_roll,scan_sigma_pitch,scan_sigma_yaw,"
-           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw,weak";
+           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw";
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -92,12 +93,12 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_info[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_sigma[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.est_sigma[k]);
-    s += ',' + risk::axisLetters(r.weak);
     return s;
 }
 
-RunOutputs::RunOutputs(const std::string& dir, double map_voxel)
+RunOutputs::RunOutputs(const std::string& dir, double map_voxel, bool report)
     : dir_(dir), voxel_(static_cast<float>(map_voxel)) {
+    if (report) report_.emplace();
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw std::runtime_error(dir + ": cannot create output folder (" + ec.message() + ")");
@@ -114,6 +115,7 @@ RunOutputs::~RunOutputs() = default;
 void RunOutputs::addFrame(const localization::FrameReport& r, const SE3d& T, const std::vector<Vec3f>& map_points) {
     tum_->write(r.t, T);
     csv_ << framesCsvLine(r, T) << '\n' << std::flush;
+    if (report_) report_->addFrame(r, T);
     for (const auto& p : map_points) {
         if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_)).second) map_.push_back(p);
     }
@@ -180,10 +182,13 @@ io::Json summaryJson(const RunSummary& s) {
 void RunOutputs::finish(const RunSummary& s) {
     // Non-finite values (e.g. the ATE of a run started 1e300 m away) are written as null, each
     // with a warning.
-    io::saveJson((std::filesystem::path(dir_) / "summary.json").string(), summaryJson(s));
+    const io::Json summary = summaryJson(s);
+    io::saveJson((std::filesystem::path(dir_) / "summary.json").string(), summary);
     PointCloud cloud;
     cloud.points = map_;
     io::savePointCloud((std::filesystem::path(dir_) / "localized_map.pcd").string(), cloud);
+    if (report_)
+        writeTextFile((std::filesystem::path(dir_) / "report.html").string(), report_->html(summary, dir_));
 }
 
 }  // namespace superloc::app

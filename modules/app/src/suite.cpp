@@ -75,7 +75,7 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
             throw ConfigError(path + ": [suite] sequences lists '" + name + "' but there is no [" +
                               sec + "]");
         checkKeys(c, sec,
-                  {"type", "config", "seed", "sim_set", "data", "scans", "gt", "prior_voxel",
+                  {"type", "config", "seed", "seeds", "sim_set", "data", "scans", "gt", "prior_voxel",
                    "gt_map_voxel", "localize_set", "map_scans", "localize_scans", "circular"},
                   path);
         SequenceSpec q;
@@ -118,7 +118,29 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
         } else {
             throw ConfigError(where + " type = '" + type + "': expected sim, kitti or pcd");
         }
-        s.sequences.push_back(q);
+        q.group = name;
+        const auto seeds = splitWords(value(c, sec, "seeds"));
+        if (!seeds.empty() && q.kind != SequenceSpec::Kind::Sim)
+            throw ConfigError(where + " seeds: only a simulated sequence (type = sim) has seeds");
+        if (!seeds.empty() && !value(c, sec, "seed").empty())
+            throw ConfigError(where + ": give seed or seeds, not both");
+        if (seeds.empty()) {
+            s.sequences.push_back(q);
+            continue;
+        }
+        // One sequence per seed, NAME_sN, grouped under NAME (the report's mean over seeds).
+        for (const auto& w : seeds) {
+            SequenceSpec one = q;
+            try {
+                size_t used = 0;
+                one.seed = std::stoi(w, &used);
+                if (used != w.size() || one.seed < 0) throw std::invalid_argument(w);
+            } catch (const std::exception&) {
+                throw ConfigError(where + " seeds: '" + w + "' is not a seed (whole numbers >= 0, e.g. seeds = 1 2 3)");
+            }
+            one.name = name + "_s" + w;
+            s.sequences.push_back(one);
+        }
     }
     return s;
 }

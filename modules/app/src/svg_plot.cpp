@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <unordered_set>
 
 namespace superloc::app {
 namespace {
@@ -71,7 +73,8 @@ double SvgPlot::py(double y) const {
     return h_ - bottom_ - (y - y0_) / (y1_ - y0_) * (h_ - top_ - bottom_);
 }
 
-void SvgPlot::axes(const std::string& xlabel, const std::string& ylabel) {
+void SvgPlot::axes(const std::string& xlabel, const std::string& ylabel,
+                   const std::vector<std::pair<double, std::string>>& y_ticks) {
     std::string& b = body_;
     b += "<rect x=\"" + num(left_) + "\" y=\"" + num(top_) + "\" width=\"" +
          num(w_ - left_ - right_) + "\" height=\"" + num(h_ - top_ - bottom_) +
@@ -82,11 +85,15 @@ void SvgPlot::axes(const std::string& xlabel, const std::string& ylabel) {
              "\" y2=\"" + num(h_ - bottom_ + 4) + "\" stroke=\"#333\"/><text x=\"" + num(px(x)) +
              "\" y=\"" + num(h_ - bottom_ + 15) + "\" font-size=\"10\" text-anchor=\"middle\">" +
              tickLabel(x) + "</text>\n";
-    for (double y = std::ceil(y0_ / sy) * sy; y <= y1_ + 1e-9 * sy; y += sy)
+    std::vector<std::pair<double, std::string>> yt = y_ticks;
+    if (yt.empty())
+        for (double y = std::ceil(y0_ / sy) * sy; y <= y1_ + 1e-9 * sy; y += sy)
+            yt.emplace_back(y, tickLabel(y));
+    for (const auto& [y, label] : yt)
         b += "<line x1=\"" + num(left_ - 4) + "\" y1=\"" + num(py(y)) + "\" x2=\"" + num(left_) +
              "\" y2=\"" + num(py(y)) + "\" stroke=\"#333\"/><text x=\"" + num(left_ - 6) +
              "\" y=\"" + num(py(y) + 3) + "\" font-size=\"10\" text-anchor=\"end\">" +
-             tickLabel(y) + "</text>\n";
+             xmlEscape(label) + "</text>\n";
     b += "<text x=\"" + num(0.5 * (left_ + w_ - right_)) + "\" y=\"" + num(h_ - 6) +
          "\" font-size=\"11\" text-anchor=\"middle\">" + xmlEscape(xlabel) + "</text>\n";
     b += "<text x=\"12\" y=\"" + num(0.5 * (top_ + h_ - bottom_)) +
@@ -124,6 +131,39 @@ void SvgPlot::segment(double x0, double y0, double x1, double y1, const std::str
              "\" stroke-linecap=\"round\"/>\n";
 }
 
+size_t SvgPlot::dots(const std::vector<double>& xs, const std::vector<double>& ys,
+                     const std::string& color, double radius, size_t max_dots) {
+    // Pixel positions inside the frame, then one per cell of `cell` px.
+    std::vector<std::pair<double, double>> in;
+    for (size_t i = 0; i < std::min(xs.size(), ys.size()); ++i) {
+        const double u = px(xs[i]), v = py(ys[i]);
+        if (std::isfinite(u) && std::isfinite(v) && u >= left_ && u <= w_ - right_ && v >= top_ &&
+            v <= h_ - bottom_)
+            in.emplace_back(u, v);
+    }
+    std::vector<std::pair<double, double>> kept;
+    for (double cell = std::max(2 * radius, 0.5);; cell *= 2) {
+        std::unordered_set<int64_t> seen;
+        kept.clear();
+        for (const auto& [u, v] : in) {
+            const int64_t key = static_cast<int64_t>(u / cell) * 1000003 + static_cast<int64_t>(v / cell);
+            if (seen.insert(key).second) kept.emplace_back(u, v);
+        }
+        if (kept.size() <= std::max<size_t>(max_dots, 1)) break;
+    }
+    if (kept.empty()) return 0;
+    // A zero-length line with round caps is a dot of the stroke's width.
+    std::string d;
+    char buf[48];
+    for (const auto& [u, v] : kept) {
+        std::snprintf(buf, sizeof buf, "M%.1f %.1fh0", u, v);
+        d += buf;
+    }
+    body_ += "<path fill=\"none\" stroke=\"" + color + "\" stroke-width=\"" + num(2 * radius) +
+             "\" stroke-linecap=\"round\" d=\"" + d + "\"/>\n";
+    return kept.size();
+}
+
 void SvgPlot::spanX(double x0, double x1, const std::string& fill, double opacity) {
     const double a = std::max(px(x0), left_), b = std::min(px(x1), w_ - right_);
     if (b <= a) return;
@@ -141,6 +181,10 @@ void SvgPlot::hline(double y, const std::string& color, bool dashed) {
 void SvgPlot::legend(const std::vector<std::pair<std::string, std::string>>& entries) {
     double y = top_ + 14;
     const double x = w_ - right_ - 130;
+    if (!entries.empty())  // a light backing, so that the entries stay legible over the data
+        body_ += "<rect x=\"" + num(x - 4) + "\" y=\"" + num(top_ + 3) + "\" width=\"128\" height=\"" +
+                 num(14.0 * static_cast<double>(entries.size()) + 4) +
+                 "\" fill=\"white\" fill-opacity=\"0.85\"/>\n";
     for (const auto& [name, color] : entries) {
         body_ += "<line x1=\"" + num(x) + "\" y1=\"" + num(y - 4) + "\" x2=\"" + num(x + 18) +
                  "\" y2=\"" + num(y - 4) + "\" stroke=\"" + color +
@@ -152,14 +196,15 @@ void SvgPlot::legend(const std::vector<std::pair<std::string, std::string>>& ent
 
 std::string SvgPlot::str() const { return stackSvg({*this}); }
 
-std::string stackSvg(const std::vector<SvgPlot>& plots) {
+std::string stackSvg(const std::vector<SvgPlot>& plots, bool standalone) {
     double w = 0, h = 0;
     for (const auto& p : plots) w = std::max(w, p.width()), h += p.height();
-    std::string s =
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
-        "width=\"" +
-        num(w) + "\" height=\"" + num(h) + "\" viewBox=\"0 0 " + num(w) + " " + num(h) +
-        "\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    std::string s = standalone ? "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg "
+                                 "xmlns=\"http://www.w3.org/2000/svg\" "
+                               : "<svg ";
+    s += "width=\"" + num(w) + "\" height=\"" + num(h) + "\" viewBox=\"0 0 " + num(w) + " " +
+         num(h) +
+         "\" font-family=\"sans-serif\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
     double y = 0;
     for (const auto& p : plots) {
         s += "<g transform=\"translate(0," + num(y) + ")\">\n" + p.body() + "</g>\n";

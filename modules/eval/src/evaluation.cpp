@@ -44,7 +44,7 @@ RiskPrediction::Counts& RiskPrediction::Counts::operator+=(const Counts& o) {
     return *this;
 }
 RiskPrediction& RiskPrediction::operator+=(const RiskPrediction& o) {
-    for (int r = 0; r < 3; ++r)
+    for (int r = 0; r < kRules; ++r)
         for (int k = 0; k < 6; ++k) counts[r][k] += o.counts[r][k];
     frames += o.frames;
     return *this;
@@ -66,7 +66,7 @@ RiskPrediction riskPrediction(const Trajectory& est, const Trajectory& gt, const
         ++p.frames;
         for (int k = 0; k < 6; ++k) {
             const bool failed = err[k] > (k < 3 ? params.risk_fail_xyz : fail_rad);
-            for (int r = 0; r < 3; ++r) {
+            for (int r = 0; r < kRules; ++r) {
                 const bool flagged = frames.frames[i].rule_flags[r][k];
                 auto& c = p.counts[r][k];
                 (flagged ? (failed ? c.tp : c.fp) : (failed ? c.fn : c.tn))++;
@@ -137,7 +137,7 @@ std::string riskPredictionMarkdown(const RiskPrediction& p) {
     for (int k = 0; k < 6; ++k) s += "---:|";
     s += "\n";
     const auto ratio = [](double v) { return std::isfinite(v) ? fmt("%.2f", v) : std::string("–"); };
-    for (int r = 0; r < 3; ++r) {
+    for (int r = 0; r < kRules; ++r) {
         s += std::string("| ") + kRuleNames[r] + " |";
         for (int k = 0; k < 6; ++k) {
             const auto& c = p.counts[r][k];
@@ -150,7 +150,7 @@ std::string riskPredictionMarkdown(const RiskPrediction& p) {
 
 io::Json toJson(const RiskPrediction& p) {
     io::Json j = {{"frames", p.frames}};
-    for (int r = 0; r < 3; ++r) {
+    for (int r = 0; r < kRules; ++r) {
         io::Json rule = io::Json::object();
         for (int k = 0; k < 6; ++k) {
             const auto& c = p.counts[r][k];

@@ -88,7 +88,7 @@ FrameLog loadFrameLog(const std::string& path) {
         };
         axes("degenerate", f.degenerate);
         if (log.has_rules)
-            for (int r = 0; r < 3; ++r) axes(kRuleColumns[r], f.rule_flags[r]);
+            for (int r = 0; r < kRules; ++r) axes(kRuleColumns[r], f.rule_flags[r]);
         if (log.has_health) {
             const size_t k = col["health"];
             f.health = k < cells.size() ? cells[k] : "";

@@ -1,4 +1,4 @@
-// ATE and RPE (DESIGN §8) on timestamp-associated trajectories.
+// ATE and RPE (doc/evaluation.md) on timestamp-associated trajectories.
 #include <superloc/core/se3.h>
 #include <superloc/eval/trajectory_metrics.h>
 

@@ -26,7 +26,11 @@ Mat3 noiseScale(const Mat3& block, double floor_share) {
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
     Mat6d S = Mat6d::Zero();
     S.topLeftCorner<3, 3>() = noiseScale(H.topLeftCorner<3, 3>(), floor_share);
-    S.bottomRightCorner<3, 3>() = noiseScale(H.bottomRightCorner<3, 3>(), floor_share);
+    // Rotation: no floor. A torque's noise grows with the lever arm, so a share of the group's
+    // trace (dominated by the long yaw and pitch arms) would take roll's real information in a
+    // corridor; the rotation degeneracies (yaw over a plane, roll in a round tunnel) are exact
+    // zeros of the torques, not a noise level.
+    S.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
     const Mat6d out = S * H * S;
     return 0.5 * (out + out.transpose());
 }
@@ -47,7 +51,17 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
         const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
         C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() / l;
     }
-    out.sigma = C.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMin(kMaxSigma);
+    // The std per axis over the eigen-directions that make at least 5 % of it: the marginal,
+    // without the unheld corridor axis's thousandth along z turning 1 km into a metre of z.
+    for (int k = 0; k < 6; ++k) {
+        double var = 0;
+        for (int i = 0; i < 6; ++i) {
+            const double u2 = es.eigenvectors()(k, i) * es.eigenvectors()(k, i);
+            const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
+            if (u2 >= 0.05) var += u2 / l;
+        }
+        out.sigma[k] = std::min(kMaxSigma, std::sqrt(var));
+    }
     // Per group: the directions of the marginal covariance and their std.
     for (int g = 0; g < 2; ++g) {
         const Mat3 Cg = C.block<3, 3>(3 * g, 3 * g);

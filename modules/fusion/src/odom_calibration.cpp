@@ -53,9 +53,12 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
             if (std::abs(r - reg.dot(a.x)) > p_.outlier_sigmas * s) {
                 outlier[k] = true;
                 ++outliers_[k];
-                continue;
+                if (++a.outlier_run < p_.restart_after) continue;
+                a = Axis{};  // the error changed: learn it again, from this frame
+                ++restarts_[k];
             }
         }
+        a.outlier_run = 0;
         a.A = forget * a.A + reg * reg.transpose();
         a.g = forget * a.g + reg * r;
         a.rr = forget * a.rr + r * r;

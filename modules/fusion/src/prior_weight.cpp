@@ -108,7 +108,7 @@ Vec6d capScale(const Vec6d& s, const Vec6d& sigma) {
 }
 
 Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s) {
-    // DESIGN §5: W = diag(max(0, 1 - gamma_k)) s_k.
+    // doc/method.md §2: W = diag(max(0, 1 - gamma_k)) s_k.
     Vec6d W;
     for (int k = 0; k < 6; ++k) W[k] = std::max(0.0, 1.0 - gamma[k]) * std::max(0.0, s[k]);
     return W;

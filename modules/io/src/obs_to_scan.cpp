@@ -1,4 +1,4 @@
-// MRPT LiDAR observations -> superloc::Scan (DESIGN §3: per-point time).
+// MRPT LiDAR observations -> superloc::Scan (doc/design.md#3-data-conventions: per-point time).
 #include "obs_to_scan.h"
 
 #include <mrpt/maps/CPointsMapXYZI.h>

@@ -70,7 +70,10 @@ std::optional<fusion::RelativePosePrior> FrameFusion::prior(const std::vector<Co
     rep.scan_info = sol.scan_info.diagonal();
     rep.scan_sigma = frame_.scan.sigma;
     rep.est_sigma = frame_.est.sigma;
-    rep.weak = frame_.est.weak;
+    // The frame's decision: `degenerate` is where the estimate is weak; the paper's scan-only
+    // flags stay in flags_labels2 (and gamma).
+    rep.degenerate = frame_.est.weak;
+    rep.degenerate_axes = risk::axisLetters(rep.degenerate);
     sol.est_weak = frame_.est;
     sol.scan_weak = frame_.scan;
     frame_.T_map_imu = T_map_imu;

@@ -1,4 +1,4 @@
-// The odom_alt fusion policies of the method variants (method_variant.h, DESIGN §6).
+// The odom_alt fusion policies of the method variants (method_variant.h, doc/design.md#6-method-variants).
 #include <superloc/core/se3.h>
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/method_variant.h>
@@ -45,6 +45,10 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     return p;
 }
 
+std::optional<SE3d> OdomFusionActive::motion(const SE3d& odom_delta) const {
+    return p_.odom_calibration ? calib_.correct(odom_delta) : odom_delta;
+}
+
 void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
     if (!p_.odom_calibration || !f.odom_delta) return;
     // Learn only where the scan alone held the axis: there the estimate is the scan's, and no
@@ -60,7 +64,7 @@ void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
 std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFrame& f,
                                                                 const risk::RiskReport& risk) const {
     if (!f.odom_delta || !f.corr) return std::nullopt;
-    // DESIGN §5 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
+    // doc/method.md §2 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
     // information per axis of the group, at the predicted pose (doc/method.md §2).
     const Mat6d H = fusion::scanInformation(*f.corr, f.T_map_imu, scan_sigma_);
     Vec6d s = p_.prior_scale * fusion::priorScale(H);

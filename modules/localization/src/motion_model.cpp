@@ -8,7 +8,8 @@
 namespace superloc::localization {
 
 Prediction predictMotion(const fusion::FrameState& prev, const std::optional<fusion::FrameState>& prev_prev, double t,
-                         const SensorHistory& sensors, bool use_imu, const Vec3d& g_map, imu::Preintegration& pre) {
+                         const SensorHistory& sensors, const OdomFusion& policy, bool use_imu, const Vec3d& g_map,
+                         imu::Preintegration& pre) {
     Prediction pr;
     const auto& imu = sensors.imu();
     const bool imu_covers = use_imu && imu::coversInterval(imu, prev.t, t, 0.05);
@@ -25,8 +26,23 @@ Prediction predictMotion(const fusion::FrameState& prev, const std::optional<fus
         pr.v_body = nav.R.transpose() * nav.v;
         return pr;
     }
-    // Without IMU: constant velocity from the last two estimates.
     const SE3d T_prev = prev.T_map_imu();
+    // Without IMU, with odom_alt where the method predicts from it (superloc: its motion with
+    // the calibrated systematic error removed).
+    if (policy.usesOdomAlt() && t > prev.t) {
+        if (const auto d = sensors.odomAltDelta(prev.t, t)) {
+            if (const auto m = policy.motion(*d)) {
+                const Vec6d xi = toVec6(*m) / (t - prev.t);
+                pr.T_map_imu = T_prev * *m;
+                pr.v_body = xi.head<3>();
+                pr.w_body = xi.tail<3>();
+                pr.v = T_prev.linear() * pr.v_body;
+                pr.from_odom = true;
+                return pr;
+            }
+        }
+    }
+    // Without IMU: constant velocity from the last two estimates.
     pr.T_map_imu = T_prev;
     if (prev_prev && prev.t > prev_prev->t) {
         const double dt_prev = prev.t - prev_prev->t;

@@ -26,8 +26,8 @@ void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::F
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (doc/method.md §3).
     features::SweepMotion motion;
-    if (p_.deskew && (pred.twist_from_imu || p_.deskew_without_imu) && scan.rel_time.size() == scan.size() &&
-        !scan.empty()) {
+    if (p_.deskew && (pred.twist_from_imu || pred.from_odom || p_.deskew_without_imu) &&
+        scan.rel_time.size() == scan.size() && !scan.empty()) {
         const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
         if (s_min < 0) {
             if (p_.deskew_imu_poses && pred.used_imu) {

@@ -46,7 +46,8 @@ void Tracker::begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameR
         f.start = fusion::FrameState{};
         f.start.setBias(b);
     } else {
-        f.pred = predictMotion(prev_, prev_prev_, scan.t, sensors_, params_.loc.use_imu, g_map_, f.pre);
+        f.pred = predictMotion(prev_, prev_prev_, scan.t, sensors_, *variant_.fusion, params_.loc.use_imu, g_map_,
+                               f.pre);
         f.start = prev_;
         f.start.setVelocity(f.pred.v);
     }
@@ -70,7 +71,8 @@ bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
     // and their solved pose is not checked against the prediction (it may be far off, rightly);
     // without IMU, the last scan first measures the motion, and the frame is tracked from it.
     bool unknown = f.first || restart_ ||
-                   (!f.pred.used_imu && (!prev_prev_ || scan.t - prev_.t > params_.loc.max_cv_gap));
+                   (!f.pred.used_imu && !f.pred.from_odom &&
+                    (!prev_prev_ || scan.t - prev_.t > params_.loc.max_cv_gap));
     if (unknown && !f.first && may_measure && !f.pred.used_imu && params_.loc.motion_from_last_scan &&
         !last_scan_points_.empty() && measureMotion(f, rep)) {
         // Measured, not assumed: the frame is solved as a tracked one from the motion the last
@@ -109,7 +111,8 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
                        odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
     // What the estimate knows without odom_alt, carried from the last frame through the IMU
-    // (fusion::EstimateInformation); the scan's labels are added at the risk step.
+    // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it.
+    const auto t_est = Clock::now();
     fusion::FrameState pv = f.prev, c = sol.state;
     fusion::FrameProblemInputs in;
     in.prev = &pv;
@@ -120,6 +123,7 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     in.gyro_bias_rw = params_.imu.gyro_bias_rw;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);
+    rep.ms.risk += msSince(t_est);
     RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
     p.fusion = &fusion;
     icp_.solve(p, sol, rep);

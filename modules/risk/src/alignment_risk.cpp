@@ -1,4 +1,4 @@
-// The risk step (DESIGN §5): Jacobians, observability labels, counts, confidence gamma.
+// The risk step (doc/method.md §1): Jacobians, observability labels, counts, confidence gamma.
 #include <superloc/risk/alignment_risk.h>
 
 #include <Eigen/Eigenvalues>
@@ -139,7 +139,7 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         r.weight_sum += w;
     }
 
-    // Paper eq. (7)-(8), per group (DESIGN §5), and the 0.2 rule of §III-B, for both label
+    // Paper eq. (7)-(8), per group (doc/method.md §1 step 5), and the 0.2 rule of §III-B, for both label
     // schemes; `gamma` is the configured one.
     Vec6d gamma1 = Vec6d::Zero(), gamma2 = Vec6d::Zero();
     counts1.head<3>() = counts2.head<3>() = r.counts.head<3>();

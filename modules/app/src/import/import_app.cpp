@@ -30,7 +30,7 @@ struct Args {
 };
 
 void defineCommandLine(CLI::App& cli, Args& a) {
-    cli.description("Converts a folder of scans or a ROS 1 / ROS 2 bag into a rawlog (DESIGN §9).");
+    cli.description("Converts a folder of scans or a ROS 1 / ROS 2 bag into a rawlog (doc/your-data.md).");
     auto* kitti = cli.add_option("--kitti", a.kitti, "KITTI odometry folder: DIR/velodyne/NNNNNN.bin and DIR/times.txt")
                       ->type_name("DIR");
     auto* pcd = cli.add_option("--pcd-dir", a.pcd_dir, "folder of PCD scans (sorted by file name)")->type_name("DIR");

@@ -1,4 +1,4 @@
-// The benchmark suite's tables (paper Table I shape) and JSON (DESIGN §8).
+// The benchmark suite's tables (paper Table I shape) and JSON (doc/evaluation.md).
 #pragma once
 
 #include <superloc/eval/evaluation.h>
@@ -28,8 +28,23 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
                             const std::vector<std::string>& methods, const std::string& preamble,
                             const std::vector<std::string>& plots = {});
 
-/// results.json: {"runs": [...]} with every metric (no curves) per run.
-std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path);
+/// A suite sequence run with several seeds (SuiteSpec `seeds`): its name and its runs' sequences.
+struct SeedGroup {
+    std::string name;
+    std::vector<std::string> members;
+};
+
+/// The mean over seeds of ATE RMSE and map outliers per group and method, with the seeds'
+/// range, for the groups of more than one seed ("" when there are none). A group's mean counts
+/// only finished runs; a group with a run that did not finish says how many it counts.
+std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vector<SeedGroup>& groups,
+                              const std::vector<std::string>& methods);
+
+/// results.json: {"suite", "jobs", "runs": [...]} with every metric (no curves) per run; `jobs`
+/// runs were run at a time (superloc-bench --jobs: above 1 the times were measured on shared
+/// cores).
+std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
+                        unsigned jobs = 1);
 
 /// Path length [m] of a trajectory (sum of consecutive translation distances).
 double pathLength(const Trajectory& traj);

@@ -1,4 +1,4 @@
-// The superloc-eval application (DESIGN §9): evaluates one run against ground truth.
+// The superloc-eval application (doc/evaluation.md): evaluates one run against ground truth.
 //
 //   superloc-eval --est TUM --gt TUM [--est-map F --gt-map F] [--frames CSV] [--json OUT]
 //                 [--plots DIR] [--align] [--config INI] [--set eval.key=value]... [--dump-config]

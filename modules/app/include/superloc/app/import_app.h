@@ -1,4 +1,4 @@
-// The superloc-import application (DESIGN §9):
+// The superloc-import application (doc/your-data.md, doc/io.md):
 //   superloc-import (--kitti DIR | --pcd-dir DIR | --rosbag BAG [--list]) [--poses TUM]
 //       [--times FILE] [--imu-csv F] [--odom-csv F] [--gt-tum F] [--config INI]
 //       [--set rosbag.key=value]... [--dump-config] [--quiet] --out FILE.rawlog

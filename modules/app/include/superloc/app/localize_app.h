@@ -1,4 +1,4 @@
-// The superloc-localize application (DESIGN §9) as a class that apps/ wraps and tests drive:
+// The superloc-localize application (doc/localizer.md) as a class that apps/ wraps and tests drive:
 //   superloc-localize CONFIG.ini [--rawlog F] [--map F] [--method NAME] [--out DIR]
 //       [--initial-pose "x y z qx qy qz qw" | --initial-pose-tum TUM] [--set sect.key=value]...
 //       [--dump-config] [--quiet] [--help]
@@ -28,6 +28,7 @@ struct RunParams : public mrpt::config::CLoadableOptions {
     std::string initial_pose_tum;  ///< TUM file whose first pose is the initial pose
     double localized_map_voxel = 0.1;  ///< [m] voxel of localized_map.pcd (0 = keep all)
     bool save_localized_map = true;
+    bool save_report = true;  ///< write report.html at the end of the run
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;

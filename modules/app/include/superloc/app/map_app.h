@@ -1,4 +1,4 @@
-// The superloc-map application (DESIGN §9): command line -> map::MapBuilder -> map file (+ stats).
+// The superloc-map application (doc/io.md): command line -> map::MapBuilder -> map file (+ stats).
 // apps/superloc-map/main.cpp only wraps this class and prints.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The evaluation's pictures (DESIGN §8), as SVG text.
+// The evaluation's pictures (doc/evaluation.md), as SVG text.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -31,6 +31,10 @@ std::string f1CurvesSvg(const std::vector<std::pair<std::string, eval::Robustnes
 /// `traj` (within `tolerance` s, else NaN).
 std::vector<double> minTranslationGamma(const Trajectory& traj, const eval::FrameLog& log,
                                         double tolerance);
+
+/// Half the median step of increasing times `ts` [s] (0.05 with fewer than two): the span drawn
+/// for one frame on a timeline.
+double halfFramePeriod(const std::vector<double>& ts);
 
 /// Writes text to a file; throws std::runtime_error naming the file on failure.
 void writeTextFile(const std::string& path, const std::string& text);

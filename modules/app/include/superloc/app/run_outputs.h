@@ -1,8 +1,9 @@
-// Outputs of a localization run (DESIGN §9), written progressively: the app layer's writers.
+// Outputs of a localization run (doc/localizer.md), written progressively: the app layer's writers.
 //   trajectory.tum  one pose per frame (flushed per line)
 //   frames.csv      one localization::FrameReport per line (flushed per line), header below
 //   summary.json    counts and timing statistics (at the end)
 //   localized_map.pcd  every scan's points at its estimate, voxelized (at the end)
+//   report.html     the run at a glance (run_report.h; at the end, unless switched off)
 #pragma once
 
 #include <superloc/core/types.h>
@@ -10,9 +11,11 @@
 #include <superloc/io/json_file.h>
 #include <superloc/io/rawlog.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/app/run_report.h>
 
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <array>
 #include <string>
 #include <unordered_set>
@@ -24,7 +27,7 @@ class TumWriter;
 
 namespace superloc::app {
 
-/// The frames.csv header (DESIGN §9 columns first, then the localizer's own).
+/// The frames.csv header (doc/design.md#9-command-line columns first, then the localizer's own).
 std::string framesCsvHeader();
 /// One frames.csv line for a report; `T` is the pose written (lidar or body, per output_frame).
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T);
@@ -66,14 +69,16 @@ io::Json summaryJson(const RunSummary& s);
 class RunOutputs {
    public:
     /// Creates DIR (and parents) and opens trajectory.tum and frames.csv. Throws
-    /// std::runtime_error naming the path when it cannot.
-    RunOutputs(const std::string& dir, double map_voxel);
+    /// std::runtime_error naming the path when it cannot. `report`: also write report.html.
+    RunOutputs(const std::string& dir, double map_voxel, bool report = false);
     ~RunOutputs();
 
     void addFrame(const localization::FrameReport& r, const SE3d& T_written, const std::vector<Vec3f>& map_points);
-    /// Writes summary.json and localized_map.pcd.
+    /// Writes summary.json and localized_map.pcd, and report.html when asked for.
     void finish(const RunSummary& s);
     const std::string& dir() const { return dir_; }
+    /// The report's data (its map, its inputs); nullptr when no report is written.
+    RunReport* report() { return report_ ? &*report_ : nullptr; }
 
    private:
     std::string dir_;
@@ -82,6 +87,7 @@ class RunOutputs {
     float voxel_;
     std::unordered_set<VoxelKey, VoxelKeyHash> occupied_;
     std::vector<Vec3f> map_;
+    std::optional<RunReport> report_;
 };
 
 }  // namespace superloc::app

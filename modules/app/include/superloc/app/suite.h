@@ -1,5 +1,5 @@
-// A benchmark suite (DESIGN §8): sequences x methods, read from a suite INI, and the
-// command lines of the apps that prepare and run each case (DESIGN §9 contract).
+// A benchmark suite (doc/evaluation.md): sequences x methods, read from a suite INI, and the
+// command lines of the apps that prepare and run each case (doc/design.md#9-command-line).
 //
 //   [suite]
 //   methods         = superloc icp passive eigen_remap ndt
@@ -10,6 +10,7 @@
 //   [eval]  ... (eval::EvalParams keys)
 //   [seq.corridor]
 //   type = sim            config = ../sim/corridor.ini   seed = 1   sim_set = sim.duration=20
+//   (or seeds = 1 2 3: one sequence NAME_sN per seed, grouped under NAME in the report)
 //   [seq.kitti00-mini]
 //   type = kitti          data = kitti00-mini   gt = gt_velodyne_tum.txt   prior_voxel = 0.1
 //   [seq.campus-ouster]
@@ -26,6 +27,8 @@ namespace superloc::app {
 struct SequenceSpec {
     enum class Kind { Sim, Kitti, PcdDir };
     std::string name;
+    /// The suite's sequence this one came from: `name`, or NAME for the NAME_sN of `seeds`
+    std::string group;
     Kind kind = Kind::Sim;
     std::string config;                 ///< sim: scenario INI (absolute)
     int seed = 1;                       ///< sim: --seed
@@ -36,7 +39,7 @@ struct SequenceSpec {
     double prior_voxel = 0.1;           ///< [m] real: voxel of the prior map built from the scans
     double gt_map_voxel = 0.02;         ///< [m] real: voxel of the GT map built from the scans
     /// real: the scans the prior map is built from and the scans localized in it ([rawlog]
-    /// scans syntax). Never the same scans (the honest protocol, DESIGN §8), unless `circular`.
+    /// scans syntax). Never the same scans (the honest protocol, doc/design.md#8-evaluation), unless `circular`.
     std::string map_scans = "even", localize_scans = "odd";
     bool circular = false;              ///< real: a labelled sanity check with map_scans == localize_scans
     std::vector<std::string> localize_sets;  ///< extra --set for this sequence's localize runs
@@ -63,7 +66,7 @@ struct SequenceFiles {
 };
 SequenceFiles sequenceFiles(const SequenceSpec& seq, const std::string& out_dir);
 
-/// Command lines (argv) of the apps, DESIGN §9. `tool` is the executable's path.
+/// Command lines (argv) of the apps, doc/design.md#9-command-line. `tool` is the executable's path.
 std::vector<std::string> simCommand(const std::string& tool, const SequenceSpec& seq,
                                     const std::string& dir);
 std::vector<std::string> importCommand(const std::string& tool, const SequenceSpec& seq,

@@ -1,5 +1,5 @@
 // A small SVG line-plot writer (no dependencies): axes with ticks, polylines, coloured
-// segments, shaded spans, legend. Data coordinates are mapped into a fixed pixel box.
+// segments, dots, shaded spans, legend. Data coordinates are mapped into a fixed pixel box.
 #pragma once
 
 #include <string>
@@ -14,12 +14,20 @@ class SvgPlot {
 
     /// Data range shown; with equal_aspect the range is widened so 1 m is as long in x as in y.
     void setRange(double x0, double x1, double y0, double y1, bool equal_aspect = false);
-    /// Frame, ticks with values, axis labels and the title.
-    void axes(const std::string& xlabel, const std::string& ylabel);
+    /// Frame, ticks with values, axis labels and the title; `y_ticks` (value, label), when given,
+    /// replace the y axis' numbers (e.g. a row per axis name).
+    void axes(const std::string& xlabel, const std::string& ylabel,
+              const std::vector<std::pair<double, std::string>>& y_ticks = {});
     void polyline(const std::vector<double>& xs, const std::vector<double>& ys,
                   const std::string& color, double width = 1.5, bool dashed = false);
     void segment(double x0, double y0, double x1, double y1, const std::string& color,
                  double width = 2.0);
+    /// Round dots of `radius` px (e.g. a map's points from above), as one path: one dot per
+    /// square of 2·radius px (the first point in it; points outside the range are left out), the
+    /// square doubled until at most `max_dots` remain, so that the size stays bounded. Returns
+    /// the dots drawn.
+    size_t dots(const std::vector<double>& xs, const std::vector<double>& ys,
+                const std::string& color, double radius, size_t max_dots);
     /// A vertical band over the whole y range between data x0 and x1.
     void spanX(double x0, double x1, const std::string& fill, double opacity = 0.25);
     void hline(double y, const std::string& color, bool dashed = true);
@@ -43,8 +51,9 @@ class SvgPlot {
     std::string body_;
 };
 
-/// Plots stacked top to bottom in one SVG document.
-std::string stackSvg(const std::vector<SvgPlot>& plots);
+/// Plots stacked top to bottom in one SVG document; `standalone` false leaves out the XML
+/// declaration and namespace, for an <svg> element inside an HTML page.
+std::string stackSvg(const std::vector<SvgPlot>& plots, bool standalone = true);
 
 /// Colour of a confidence value in [0, 1]: red (0) through yellow to green (1).
 std::string gammaColor(double gamma);

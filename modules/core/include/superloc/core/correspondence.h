@@ -1,6 +1,6 @@
 // One scan-to-map correspondence: the project's one type for it. The localizer's association
 // fills it, fusion's scan factor turns it into residuals (point-to-plane, -line, -point) and the
-// risk step labels it (DESIGN §4-§5).
+// risk step labels it (doc/design.md#4-per-frame-pipeline).
 #pragma once
 
 #include <superloc/core/types.h>

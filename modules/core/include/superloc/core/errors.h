@@ -1,4 +1,4 @@
-// Error text for the command line: every app reports a failure as one line (DESIGN §9).
+// Error text for the command line: every app reports a failure as one line (doc/design.md#9-command-line).
 #pragma once
 
 #include <exception>

@@ -1,6 +1,6 @@
 // Plain data types shared by every SuperLoc module.
 //
-// Frame convention (DESIGN §3): T_a_b maps points from frame b into frame a. World/map frame
+// Frame convention (doc/design.md#3-data-conventions): T_a_b maps points from frame b into frame a. World/map frame
 // `map`, sensor frame `lidar`, body = IMU frame `imu`. Times are seconds (double), the same
 // clock as the rawlog's observation timestamps.
 #pragma once

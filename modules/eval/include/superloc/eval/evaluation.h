@@ -1,4 +1,4 @@
-// One run's evaluation: every metric of DESIGN §8 from an estimate, its GT and optionally the
+// One run's evaluation: every metric of doc/evaluation.md from an estimate, its GT and optionally the
 // maps and the localizer's frame log; plus its JSON and Markdown forms.
 #pragma once
 
@@ -47,7 +47,7 @@ struct RiskPrediction {
         double recall() const;
         Counts& operator+=(const Counts& o);
     };
-    std::array<std::array<Counts, 6>, 3> counts{};  ///< [rule][axis]
+    std::array<std::array<Counts, 6>, kRules> counts{};  ///< [rule][axis] (kRuleColumns)
     size_t frames = 0;                             ///< frames matched to GT
     RiskPrediction& operator+=(const RiskPrediction& o);
 };

@@ -1,4 +1,4 @@
-// The localizer's per-frame log (DESIGN §9 `frames.csv`), as the evaluation needs it.
+// The localizer's per-frame log (`frames.csv`, doc/localizer.md), as the evaluation needs it.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -16,15 +16,17 @@ struct FrameRecord {
     std::array<bool, 6> degenerate{};  ///< parsed from the `degenerate` letters
     double ms_total = 0;               ///< [ms] wall time of the frame
     std::string health;                ///< "ok" | "degraded" | "lost"; empty when the log has none
-    /// The flags_labels1, flags_labels2, flags_eigen columns (risk::RiskReport::RuleFlags).
-    std::array<std::array<bool, 6>, 3> rule_flags{};
+    /// The flags_labels1, flags_labels2, flags_eigen columns (risk::RiskReport::RuleFlags) and
+    /// `degenerate` (the estimate's weak directions, the decision), in kRuleColumns order.
+    std::array<std::array<bool, 6>, 4> rule_flags{};
 };
 
 /// The failure-prediction rules of frames.csv, in FrameRecord::rule_flags order: their column
 /// names and short names.
-inline constexpr const char* kRuleColumns[3] = {"flags_labels1", "flags_labels2", "flags_eigen"};
-inline constexpr const char* kRuleNames[3] = {"γ, 1 rotation label", "γ, 2 rotation labels",
-                                              "Hessian eigenvalues"};
+inline constexpr int kRules = 4;
+inline constexpr const char* kRuleColumns[kRules] = {"flags_labels1", "flags_labels2", "flags_eigen", "degenerate"};
+inline constexpr const char* kRuleNames[kRules] = {"γ, 1 rotation label", "γ, 2 rotation labels",
+                                              "Hessian eigenvalues", "estimate (scan + IMU) weak"};
 
 struct FrameLog {
     std::vector<FrameRecord> frames;
@@ -33,7 +35,7 @@ struct FrameLog {
     std::map<std::string, std::vector<double>> stage_ms;
     bool has_gamma = false;  ///< the file had the six gamma_* columns
     bool has_health = false;  ///< the file had the `health` column
-    bool has_rules = false;   ///< the file had the three flags_* columns
+    bool has_rules = false;   ///< the file had the flags_* columns and `degenerate`
 };
 
 /// Parses the `degenerate` column ("x", "xyaw", "rollpitch", "" ...) into flags; throws

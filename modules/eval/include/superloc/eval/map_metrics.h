@@ -1,4 +1,4 @@
-// Map accuracy (paper Table I, DESIGN §8): the localized map against the ground-truth map.
+// Map accuracy (paper Table I, doc/evaluation.md): the localized map against the ground-truth map.
 #pragma once
 
 #include <superloc/core/types.h>

@@ -1,4 +1,4 @@
-// Robustness metrics of SubT-MRS (Zhao et al., CVPR 2024; paper §IV-C; DESIGN §8).
+// Robustness metrics of SubT-MRS (Zhao et al., CVPR 2024; paper §IV-C; doc/evaluation.md).
 //
 // A frame i >= 1 of the estimate is an inlier at threshold tau when its RPE step error
 // (i-1 -> i) is <= tau. precision = inliers / estimated steps, recall = inliers / GT steps

@@ -1,4 +1,4 @@
-// Runtime statistics (DESIGN §8) of per-frame wall times.
+// Runtime statistics (doc/evaluation.md) of per-frame wall times.
 #pragma once
 
 #include <cstddef>

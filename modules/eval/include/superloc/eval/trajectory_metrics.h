@@ -1,4 +1,4 @@
-// Trajectory accuracy (DESIGN §8): time association, ATE, RPE (delta = 1 frame).
+// Trajectory accuracy (doc/evaluation.md): time association, ATE, RPE (delta = 1 frame).
 #pragma once
 
 #include <superloc/core/types.h>

@@ -1,5 +1,5 @@
 // Deskew (motion compensation) of a sweep: each point, measured at its own time t + rel_time,
-// is moved into the sensor frame at the scan time t (DESIGN §3: the end of the sweep).
+// is moved into the sensor frame at the scan time t (doc/design.md#3-data-conventions: the end of the sweep).
 #pragma once
 
 #include <superloc/core/types.h>

@@ -23,11 +23,12 @@
 
 namespace superloc::fusion {
 
-/// The scan information H without its noise floor: per group (translation, rotation), each
-/// eigen-direction keeps its eigenvalue minus `floor_share` of the group's trace (never below 0).
-/// A plane normal with angular noise sigma_n puts a share of about sigma_n^2 of its information
-/// on every direction across it by chance; that much holds nothing. The cross terms between the
-/// groups are scaled alike (H_eff = S H S, S = V diag(sqrt(kept / eigenvalue)) V^T per group).
+/// The scan information H without its noise floor: each eigen-direction of the translation
+/// block keeps its eigenvalue minus `floor_share` of the block's trace (never below 0). A plane
+/// normal with angular noise sigma_n puts a share of about sigma_n^2 of its information on every
+/// direction across it by chance; that much holds nothing. The cross terms with the rotation
+/// are scaled alike (H_eff = S H S, S = V diag(sqrt(kept / eigenvalue)) V^T on the translation,
+/// identity on the rotation, whose degeneracies are exact zeros of the torques).
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share);
 
 /// Where an estimate of information `info` is weak: per group, the eigen-directions u_i of its
@@ -39,7 +40,9 @@ struct Weakness {
     Mat6d G = Mat6d::Zero();
     /// Body axis k is weak when (G G)_kk >= 0.5: at least half of it lies in weak directions.
     std::array<bool, 6> weak{};
-    /// Marginal std per axis, capped at kMaxSigma [m, rad] where nothing holds the axis.
+    /// Std per axis [m, rad] over the information's eigen-directions that make at least 5 % of
+    /// the axis (the marginal, without a near-unheld direction's small component on it), capped
+    /// at kMaxSigma where nothing holds the axis.
     Vec6d sigma = Vec6d::Zero();
     bool any() const;
 };

@@ -11,8 +11,8 @@
 // (the estimate there is the scan's, not odom_alt's or the IMU chain's). What is left after the
 // correction gives odom_alt's per-frame standard deviation per axis, with the fit's own
 // uncertainty growing with d: the weight odom_alt is worth on an axis the scan does not hold.
-// A frame whose residual on a held axis is far outside that (a jump, a slip) is not learned from
-// and counts as an inconsistency.
+// A frame whose residual on a held axis is far outside that (a jump) is not learned from and
+// counts as an outlier; many in a row mean the error itself changed, and that axis starts again.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -26,6 +26,8 @@ struct OdomCalibrationParams {
     double memory_m = 500.0;      ///< [m] forgetting distance of the fit (exponential)
     double min_held_m = 10.0;     ///< [m] travel on held frames before an axis's fit is used
     double outlier_sigmas = 5.0;  ///< [-] residual beyond this many stds: not learned from
+    /// this many outliers in a row on an axis: its error changed (not a jump), the fit restarts
+    int restart_after = 10;
     double sigma_floor_xyz = 0.0005;  ///< [m] per-frame std never below this
     double sigma_floor_rot = 0.01 * 3.14159265358979323846 / 180.0;  ///< [rad] likewise
 };
@@ -54,6 +56,7 @@ class OdomCalibration {
     Vec3d rotationScale() const; ///< s [-]
     Vec3d rotationPerM() const;  ///< c [rad/m]
     const std::array<int, 6>& outliers() const { return outliers_; }
+    const std::array<int, 6>& restarts() const { return restarts_; }
 
    private:
     /// Sufficient statistics of one axis's weighted least squares r = a^T x, x = (slope on the
@@ -64,6 +67,7 @@ class OdomCalibration {
         double rr = 0;        ///< sum r^2
         double n = 0;         ///< frames (forgotten like the rest)
         double held_m = 0;    ///< held travel (not forgotten)
+        int outlier_run = 0;  ///< outliers in a row
         double var = 0;       ///< residual variance per frame after the correction
         Eigen::Vector2d x = Eigen::Vector2d::Zero();
         Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();  ///< of x, per unit variance
@@ -73,6 +77,7 @@ class OdomCalibration {
     OdomCalibrationParams p_;
     std::array<Axis, 6> axes_;
     std::array<int, 6> outliers_{};
+    std::array<int, 6> restarts_{};
 };
 
 }  // namespace superloc::fusion

@@ -1,5 +1,5 @@
-// Active sensor fusion (paper §III-C, DESIGN §5): the information of the relative-pose prior
-// from the alignment risk, and the two comparison variants of DESIGN §6.
+// Active sensor fusion (paper §III-C, doc/method.md §2): the information of the relative-pose prior
+// from the alignment risk, and the two comparison variants of doc/design.md#6-method-variants.
 //
 //   superloc:    W = diag(max(0, 1 - gamma_k) * s_k)        (paper: Cov_prior = I - Sigma_cov)
 //                s_k = tr(H_group) / 3, H = scan information in body coordinates (doc/method.md §2)
@@ -74,7 +74,7 @@ Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusio
 /// s_k capped by 1 / sigma_k^2.
 Vec6d capScale(const Vec6d& s, const Vec6d& sigma);
 
-/// W_k = max(0, 1 - gamma_k) * s_k (DESIGN §5; paper Cov_prior = I - Sigma_cov read as weight).
+/// W_k = max(0, 1 - gamma_k) * s_k (doc/method.md §2; paper Cov_prior = I - Sigma_cov read as weight).
 Vec6d activeInformation(const Vec6d& gamma, const Vec6d& s);
 
 /// The passive prior's constant information (diagonal).

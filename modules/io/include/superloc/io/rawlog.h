@@ -1,5 +1,5 @@
 // Streaming rawlog reader and writer (MRPT observations-only format, gz; the
-// action/sensory-frame format is tolerated on read). DESIGN §3.
+// action/sensory-frame format is tolerated on read). doc/design.md#3-data-conventions.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>

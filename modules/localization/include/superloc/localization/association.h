@@ -1,4 +1,4 @@
-// Data association with the prior map at a pose (DESIGN §4 step 3; paper §III-A), two ways:
+// Data association with the prior map at a pose (doc/localizer.md step 3; paper §III-A), two ways:
 //  - nearest (default): the nearest map point (kd-tree) and its precomputed neighbourhood
 //    geometry decide a point-to-plane, -line or -point correspondence with a fit weight;
 //  - voxel: the registration voxel map's voxel that contains the feature (one hash probe, at the

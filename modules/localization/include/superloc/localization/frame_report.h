@@ -1,4 +1,4 @@
-// What the Localizer reports for every scan (DESIGN §4 step 6). "Diverged" and "not converged"
+// What the Localizer reports for every scan (doc/localizer.md, Outputs). "Diverged" and "not converged"
 // are fields, never exceptions.
 #pragma once
 
@@ -33,8 +33,10 @@ struct FrameReport {
     Vec3d velocity = Vec3d::Zero();    ///< [m/s] body velocity in map
     imu::ImuBias bias;
 
-    // Alignment risk at the predicted pose (DESIGN §5): x y z roll pitch yaw.
+    // Alignment risk at the predicted pose (doc/method.md §1): x y z roll pitch yaw.
     Vec6d gamma = Vec6d::Zero();
+    /// The weak axes: of the estimate without odom_alt (fusion::weakness) on a tracked frame,
+    /// where superloc fuses odom_alt; of the scan's gamma (as flags_labels2) on other solves.
     std::array<bool, 6> degenerate{};
     std::string degenerate_axes;       ///< flagged axes as letters ("x", "xyaw", "")
     /// The three failure-prediction rules of risk::RiskReport::RuleFlags, as letters.
@@ -48,12 +50,10 @@ struct FrameReport {
     /// What the estimate knows of each axis without odom_alt, at the predicted pose before the
     /// solve (doc/method.md §2, body axes): the scan's information counted by its labels
     /// [1/m^2, 1/rad^2], the std it alone gives, the std of scan + IMU window (+inf where
-    /// nothing holds the axis; 0: not computed), and the axes where that std exceeds [risk]
-    /// weak_sigma_* (the `weak` column: superloc fuses odom_alt there).
+    /// nothing holds the axis; 0: not computed). Where it is weak is `degenerate` (below).
     Vec6d scan_info = Vec6d::Zero();
     Vec6d scan_sigma = Vec6d::Zero();
     Vec6d est_sigma = Vec6d::Zero();
-    std::array<bool, 6> weak{};
     bool prior_used = false;           ///< a relative-pose prior entered the solve
     Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
 

@@ -1,4 +1,4 @@
-// Health of a localized frame (DESIGN §4 step 6, doc/health.md): ok | degraded | lost, from
+// Health of a localized frame (doc/health.md): ok | degraded | lost, from
 // evidence that needs no ground truth. The point is never to be confidently wrong: a frame is
 // `ok` only when every check passes.
 //   lost      the registration failed (diverged: too few inliers, no correspondences, solver, a

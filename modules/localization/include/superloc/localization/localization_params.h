@@ -7,7 +7,7 @@
 
 namespace superloc::localization {
 
-/// DESIGN §6. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion.
+/// doc/design.md#6-method-variants. `superloc`, `passive` and `eigen_remap` need the alignment-risk fusion.
 enum class Method { Icp, Ndt, SuperLoc, Passive, EigenRemap, SuperLocPaper };
 Method methodFromString(const std::string& s);  ///< throws ConfigError listing the names
 const char* methodName(Method m);
@@ -17,7 +17,7 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 
-    // Association (paper §III-A, DESIGN §4 step 3)
+    // Association (paper §III-A, doc/localizer.md step 3)
     /// nearest: nearest map point (kd-tree) + its neighbourhood's plane/line; voxel: the
     /// registration voxel map, coarse to fine (doc/map.md; experimental, not the default yet)
     std::string association = "nearest";

@@ -1,4 +1,4 @@
-// The method variants of DESIGN §6 as classes with one interface. A method is a registration
+// The method variants (doc/localizer.md) as classes with one interface. A method is a registration
 // (the Localizer's Ceres point-to-plane/line/point loop, or PCL NDT) and an odom_alt fusion
 // policy; the fusion policies are one family, named family + variant as in mp2p_icp:
 //
@@ -69,6 +69,9 @@ class OdomFusion {
                             const SE3d& T_solved, FrameReport&) const {
         return T_solved;
     }
+    /// Without IMU: the body motion over the frame the policy predicts from odom_alt's
+    /// (`odom_delta`), used instead of the constant-velocity model; empty: not used.
+    virtual std::optional<SE3d> motion(const SE3d& /*odom_delta*/) const { return std::nullopt; }
     /// Once a tracked frame is final (not diverged, lost or relocalized): `f` with T_map_imu
     /// the final pose and odom_alt's motion over the frame (when the policy reads it).
     virtual void frameDone(const FusionFrame& /*f*/, const FrameReport& /*rep*/) {}
@@ -100,6 +103,8 @@ class OdomFusionActive : public OdomFusion {
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
     void frameDone(const FusionFrame& f, const FrameReport& rep) override;
+    /// odom_alt's motion, calibrated (the prediction without IMU).
+    std::optional<SE3d> motion(const SE3d& odom_delta) const override;
     const fusion::OdomCalibration& calibration() const { return calib_; }
 
    private:

@@ -1,4 +1,4 @@
-// Alignment risk (DESIGN §5; paper §III-A "Predicting Alignment Risk", §III-B "Observability
+// Alignment risk (doc/method.md §1; paper §III-A "Predicting Alignment Risk", §III-B "Observability
 // Estimation"): from the correspondences of one scan at its *predicted* pose, before solving,
 // how well each motion direction x, y, z, roll, pitch, yaw is constrained.
 //

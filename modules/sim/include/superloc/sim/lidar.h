@@ -5,7 +5,7 @@
 // a column at once. Points are given in the lidar frame *at their firing time* (as a real
 // sensor does, so fast motion distorts the sweep), in firing order: column by column, beams
 // from the top one down. This matches the per-point time the localizer derives from azimuth
-// (DESIGN §3; io::RawlogParams scan_period / rotation_sense / start_azimuth_deg defaults).
+// (doc/design.md#3-data-conventions; io::RawlogParams scan_period / rotation_sense / start_azimuth_deg defaults).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>

@@ -1,4 +1,4 @@
-// The five simulated worlds (DESIGN §7). Each is a triangle mesh plus the route its platform
+// The five simulated worlds (doc/sim.md). Each is a triangle mesh plus the route its platform
 // follows; each has its own INI section named after it ([corridor], [cave], ...).
 #pragma once
 

@@ -1,0 +1,124 @@
+// The estimate's information without odom_alt and where it is weak (doc/method.md §2).
+#include <gtest/gtest.h>
+#include <superloc/core/se3.h>
+#include <superloc/fusion/estimate_information.h>
+#include <superloc/fusion/prior_weight.h>
+
+#include <cmath>
+#include <random>
+
+using namespace superloc;
+using namespace superloc::fusion;
+
+namespace {
+/// Correspondences of a corridor along the map's x axis (walls y = +-1.25, floor, ceiling) seen
+/// from a body yawed by `yaw` [rad], plane normals with angular noise `noise` [rad].
+std::vector<Correspondence> corridor(double yaw, double noise, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::normal_distribution<double> n(0, 1);
+    const Mat3d R = expSO3(Vec3d(0, 0, yaw));  // map from body
+    std::vector<Correspondence> out;
+    for (int i = 0; i < 2000; ++i) {
+        const int s = i % 4;
+        Vec3d p_map(30 * u(rng), 1.25 * u(rng), 1.4 + 1.4 * u(rng)), n_map;
+        if (s < 2) p_map.y() = s ? 1.25 : -1.25, n_map = Vec3d(0, s ? -1 : 1, 0);
+        else p_map.z() = s == 2 ? 0 : 2.8, n_map = Vec3d(0, 0, s == 2 ? 1 : -1);
+        Correspondence c;
+        c.p = R.transpose() * p_map;
+        c.q = c.p;
+        c.n = (R.transpose() * n_map + noise * Vec3d(n(rng), n(rng), n(rng))).normalized();
+        c.weight = 1;
+        out.push_back(c);
+    }
+    return out;
+}
+
+Vec6d weakSigma() {
+    Vec6d w;
+    w << Vec3d::Constant(0.05), Vec3d::Constant(0.5 * M_PI / 180);
+    return w;
+}
+}  // namespace
+
+TEST(EstimateInformation, NoiseFloorTakesTheCorridorAxisNotTheWalls) {
+    // 3 degrees of normal noise: the full Hessian holds x at ~2 cm per frame where nothing does.
+    const double yaw = 2.0 * M_PI / 180;
+    const Mat6d H = scanInformation(corridor(yaw, 3.0 * M_PI / 180, 1), SE3d::Identity(), 0.05);
+    const Vec3d axis(std::cos(yaw), -std::sin(yaw), 0);  // the corridor in body axes
+    EXPECT_GT(axis.dot(H.topLeftCorner<3, 3>() * axis), 1.0 / (0.03 * 0.03));
+    const Mat6d E = informationAboveNoise(H, std::pow(std::sin(4.0 * M_PI / 180), 2));
+    EXPECT_LT(axis.dot(E.topLeftCorner<3, 3>() * axis), 1.0);  // nothing left along the corridor
+    // The walls and the floor keep (nearly) all of theirs, along their own normals.
+    const Vec3d wall(std::sin(yaw), std::cos(yaw), 0);
+    EXPECT_GT(wall.dot(E.topLeftCorner<3, 3>() * wall), 0.98 * wall.dot(H.topLeftCorner<3, 3>() * wall));
+    EXPECT_GT(E(2, 2), 0.98 * H(2, 2));
+    const Mat3d Hr = H.bottomRightCorner<3, 3>(), Er = E.bottomRightCorner<3, 3>();
+    EXPECT_TRUE(Er.isApprox(Hr));  // no floor on rotation
+    // Where the estimate is weak: the corridor's axis, flagged as body x (not y), and G puts a
+    // prior along that axis, not along body x.
+    const Weakness w = weakness(E, weakSigma());
+    EXPECT_TRUE(w.weak[0]);
+    for (int k = 1; k < 6; ++k) EXPECT_FALSE(w.weak[k]) << k;
+    EXPECT_NEAR((w.G.topLeftCorner<3, 3>() * axis).norm(), 1.0, 1e-3);
+    EXPECT_LT((w.G.topLeftCorner<3, 3>() * wall).norm(), 1e-3);
+    EXPECT_GE(w.sigma[0], 100.0);
+    EXPECT_LT(w.sigma[2], 0.005);
+}
+
+TEST(EstimateInformation, EndWallHoldsXAboveTheFloor) {
+    // A closed end: 5 % of the correspondences on a wall across the corridor (x = -10 m).
+    auto c = corridor(0, 1.0 * M_PI / 180, 2);
+    for (size_t i = 0; i < c.size(); i += 20) {
+        c[i].p = Vec3d(-10, c[i].p.y(), c[i].p.z());
+        c[i].n = Vec3d::UnitX();
+    }
+    const Mat6d E = informationAboveNoise(scanInformation(c, SE3d::Identity(), 0.05), 0.0049);
+    const Weakness w = weakness(E, weakSigma());
+    for (int k = 0; k < 6; ++k) EXPECT_FALSE(w.weak[k]) << k;
+    EXPECT_LT(w.sigma[0], 0.01);
+}
+
+TEST(EstimateInformation, ImuWindowCarriesXForAWhileThenLetsGo) {
+    // 20 frames of 0.1 s at 5 m/s along x, the IMU reading gravity only; the scan holds all but
+    // x. The carried information keeps x known for a few frames, then it is weak; a scan that
+    // holds x makes it strong again at once.
+    FusionParams params;
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.005);
+    Mat6d scan_no_x = Mat6d::Zero();
+    scan_no_x.diagonal() << 0, 1e5, 1e5, 1e6, 1e6, 1e6;
+    Mat6d scan_all = scan_no_x;
+    scan_all(0, 0) = 1e5;
+    EstimateInformation est;
+    FrameState prev;
+    prev.setVelocity(Vec3d(5, 0, 0));
+    Vec6d sigma_first, sigma_last;
+    for (int k = 0; k < 20; ++k) {
+        FrameState cur = prev;
+        cur.t = prev.t + 0.1;
+        cur.setPose(prev.T_map_imu() * makePoseRPY(0.5, 0, 0, 0, 0, 0));
+        FrameProblemInputs in;
+        in.prev = &prev;
+        in.cur = &cur;
+        in.imu = &pre;
+        est.predict(in, params);
+        const Mat6d& H = k == 0 ? scan_all : scan_no_x;
+        const Weakness w = weakness(est.information(H), weakSigma());
+        if (k == 1) sigma_first = w.sigma;
+        sigma_last = w.sigma;
+        est.commit(cur, H);
+        prev = cur;
+    }
+    EXPECT_LT(sigma_first[0], 0.05);  // just after the scan held x: the IMU carries it
+    EXPECT_GT(sigma_last[0], 0.05);   // 1.9 s later: weak (10x the simulated IMU's noise)
+    EXPECT_LT(sigma_last[1], 0.01);
+    EXPECT_GT(sigma_last[0], 2 * sigma_first[0]);
+    // Without IMU nothing is carried: the scan alone.
+    est.reset();
+    FrameProblemInputs none;
+    none.prev = &prev;
+    none.cur = &prev;
+    est.predict(none, params);
+    EXPECT_TRUE(est.information(scan_no_x).isApprox(scan_no_x));
+}
