@@ -188,7 +188,7 @@ TEST(Suite, CommittedSuitesLoad) {
     const SuiteSpec paper = loadSuite(superloc::testing::sourcePath("ini/bench/paper.ini"),
                                       superloc::testing::sharedData());
     EXPECT_EQ(paper.methods,
-              (std::vector<std::string>{"superloc", "icp", "passive", "eigen_remap", "ndt"}));
+              (std::vector<std::string>{"superloc", "superloc_paper", "icp", "passive", "eigen_remap", "ndt"}));
     ASSERT_EQ(paper.sequences.size(), 8u);
     EXPECT_EQ(paper.sequences[1].name, "corridor-long");
     EXPECT_EQ(paper.sequences[1].sim_sets,

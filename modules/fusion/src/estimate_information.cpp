@@ -70,7 +70,7 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
         for (int i = 0; i < 3; ++i) {
             const double var = std::max(0.0, eg.eigenvalues()[i]);
             const double lim = weak_sigma[3 * g];
-            w[i] = var > lim * lim ? 1.0 - lim * lim / var : 0.0;
+            w[i] = var / (var + lim * lim);
         }
         out.G.block<3, 3>(3 * g, 3 * g) =
             eg.eigenvectors() * w.cwiseSqrt().asDiagonal() * eg.eigenvectors().transpose();
@@ -86,19 +86,45 @@ void EstimateInformation::predict(const FrameProblemInputs& in, const FusionPara
     carried_ = imuWindowStateInformation(p, params);
 }
 
-Mat6d EstimateInformation::information(const Mat6d& H) const {
+Mat6d EstimateInformation::scanPart(const Mat6d& H) const {
     if (!carried_) return H;
+    const auto I = poseInformation(*carried_);
+    const double tr = H.topLeftCorner<3, 3>().trace();
+    if (!I || !(tr > 0)) return H;
+    // The carried translation covariance's weak directions (pseudo-inverse at kMaxSigma).
+    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (*I + I->transpose()));
+    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
+    Mat6d C = Mat6d::Zero();
+    for (int i = 0; i < 6; ++i)
+        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() /
+                       std::max(min_info, std::isfinite(es.eigenvalues()[i]) ? es.eigenvalues()[i] : min_info);
+    const Eigen::SelfAdjointEigenSolver<Mat3> ec(0.5 * (C.topLeftCorner<3, 3>() + C.topLeftCorner<3, 3>().transpose()));
+    Mat6d P = Mat6d::Identity();
+    for (int i = 0; i < 3; ++i) {
+        const Eigen::Vector3d u = ec.eigenvectors().col(i);
+        if (!(ec.eigenvalues()[i] > weak_xyz_ * weak_xyz_)) continue;
+        if (u.dot(H.topLeftCorner<3, 3>() * u) >= floor_share_ * tr) continue;  // real information
+        P.topLeftCorner<3, 3>() -= u * u.transpose();
+    }
+    const Mat6d out = P * H * P;
+    return 0.5 * (out + out.transpose());
+}
+
+Mat6d EstimateInformation::information(const Mat6d& H_scan) const {
+    if (!carried_) return H_scan;
+    const Mat6d H = scanPart(H_scan);
     Mat15d M = *carried_;
     M.topLeftCorner<6, 6>() += H;
     const auto I = poseInformation(M);
     return I ? *I : H;
 }
 
-void EstimateInformation::commit(const FrameState& cur, const Mat6d& H) {
+void EstimateInformation::commit(const FrameState& cur, const Mat6d& H_scan) {
     if (!carried_) {
         prior_.reset();
         return;
     }
+    const Mat6d H = scanPart(H_scan);
     Mat15d M = *carried_;
     M.topLeftCorner<6, 6>() += H;
     M = 0.5 * (M + M.transpose());

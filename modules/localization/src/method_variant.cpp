@@ -25,7 +25,7 @@ OdomFusionActive::OdomFusionActive(const fusion::ActiveFusionParams& p, const Ve
 
 std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFrame& f,
                                                                  const risk::RiskReport&) const {
-    if (!f.odom_delta || !f.est.any()) return std::nullopt;
+    if (!f.odom_delta || !(f.est.G.squaredNorm() > 1e-12)) return std::nullopt;
     // What odom_alt is worth per axis: its calibrated residual, else what it reports, else the
     // passive prior's sigmas.
     Vec6d sigma = fusion::passiveInformation(p_).cwiseSqrt().cwiseInverse();

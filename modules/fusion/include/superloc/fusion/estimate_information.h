@@ -32,13 +32,15 @@ namespace superloc::fusion {
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share);
 
 /// Where an estimate of information `info` is weak: per group, the eigen-directions u_i of its
-/// covariance with std sigma_i above `weak_sigma` (translation, rotation) get the share
-/// w_i = 1 - (weak / sigma_i)^2 (0 up to the weak std, 1 where nothing holds the direction).
+/// covariance, with std sigma_i, get the share w_i = sigma_i^2 / (sigma_i^2 + weak^2) (`weak_sigma`:
+/// translation, rotation): the paper's 1 - gamma with gamma the estimate's confidence along
+/// u_i, sigma_weak^2 / (sigma_weak^2 + sigma_i^2): ~0 where the estimate is sure, 1/2 at the
+/// weak std, -> 1 where nothing holds u_i.
 struct Weakness {
     /// Per group U diag(sqrt(w)) U^T: a prior of information W on the body axes, applied along
     /// the weak directions only, is G W G.
     Mat6d G = Mat6d::Zero();
-    /// Body axis k is weak when (G G)_kk >= 0.5: at least half of it lies in weak directions.
+    /// Body axis k is weak when (G G)_kk >= 0.5: its share of weak directions is at least half.
     std::array<bool, 6> weak{};
     /// Std per axis [m, rad] over the information's eigen-directions that make at least 5 % of
     /// the axis (the marginal, without a near-unheld direction's small component on it), capped
@@ -51,12 +53,19 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma);
 
 class EstimateInformation {
    public:
+    /// `floor_share`: informationAboveNoise's; `weak_xyz` [m]: the weak translation std.
+    explicit EstimateInformation(double floor_share = 0.0049, double weak_xyz = 0.05)
+        : floor_share_(floor_share), weak_xyz_(weak_xyz) {}
     /// Before a frame's scan: the information carried to the current state `in.cur` (its
     /// prediction) from the last committed frame through `in.imu`, starting from the fixed
     /// prior when nothing was committed. Without IMU nothing is carried. `in.prev_prior` is
     /// ignored (this filter keeps its own).
     void predict(const FrameProblemInputs& in, const FusionParams& params);
-    /// The pose's information with the scan's `H` (informationAboveNoise) added.
+    /// The pose's information with the scan's `H` (informationAboveNoise) added. Along a
+    /// translation direction the carried information leaves weak, the scan counts only where
+    /// its share is above the noise floor: each frame's wall normals are estimated a few
+    /// tenths of a degree off, and without this their spread, frame after frame, would teach
+    /// the filter the corridor's axis (measured: x held at 0.2 m after a minute of nothing).
     Mat6d information(const Mat6d& H) const;
     /// The frame is final at `cur`: carried + scan information becomes the next frame's prior.
     /// Without a carried information (no IMU) the filter starts again.
@@ -65,6 +74,8 @@ class EstimateInformation {
     void reset();
 
    private:
+    Mat6d scanPart(const Mat6d& H) const;
+    double floor_share_, weak_xyz_;
     std::optional<StatePrior> prior_;  ///< on the last committed state
     std::optional<Mat15d> carried_;    ///< on the current state, before its scan
 };

@@ -92,8 +92,8 @@ class OdomFusionPassive : public OdomFusion {
 };
 
 /// superloc (doc/method.md §2): odom_alt's motion, its systematic error fitted online on the
-/// axes the scan holds (fusion::OdomCalibration) and removed, fused along the directions where
-/// the estimate without it is weak, with the information it is worth there:
+/// axes the scan holds (fusion::OdomCalibration) and removed, fused in proportion to how weak
+/// the estimate without it is along each direction, with the information it is worth there:
 ///   W = G diag(1 / sigma_odom,k^2) G,   G = FusionFrame::est.G (fusion::weakness)
 /// sigma_odom: the calibration's residual std where an axis is calibrated, else the growth of
 /// odom_alt's reported std over the frame, else the passive prior's sigmas.

@@ -11,6 +11,8 @@
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
+
+#include <cmath>
 #include <superloc/localization/frame_fusion.h>
 #include <superloc/localization/icp_registration.h>
 #include <superloc/localization/localizer_params.h>
@@ -124,7 +126,8 @@ class Tracker {
     /// not come from it.
     std::optional<fusion::StatePrior> prev_marginal_;
     /// What the estimate knows without odom_alt (the weak-axis decision, doc/method.md §2).
-    fusion::EstimateInformation est_info_;
+    fusion::EstimateInformation est_info_{std::pow(std::sin(params_.risk.normal_noise_deg * M_PI / 180), 2),
+                                          params_.risk.weak_sigma_xyz};
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;
