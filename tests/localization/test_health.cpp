@@ -200,3 +200,53 @@ TEST(Health, DriftAlongTheChainOfImuPredictedFrames) {
     next.T_map_lidar = rot(32, 0);
     EXPECT_EQ(h.imuDrift(next), 0.0);
 }
+
+// The HealthMonitor is the only writer of a frame's health: the Recovery hands it evidence, and
+// each piece changes only what it says (an `ok` frame becomes degraded for a doubt or a tie at
+// the start; a degraded one keeps its own reasons; a confirmation undoes only an "unconfirmed").
+TEST(Health, EvidenceFromTheRecovery) {
+    HealthMonitor h;
+    FrameReport ok = tracked(0.9);
+    h.assessFrame(ok);
+    ASSERT_EQ(ok.health, Health::Ok);
+    FrameReport weak = tracked(0.9);
+    weak.gamma[1] = 0.1;
+    h.assessFrame(weak);
+    ASSERT_EQ(weak.health, Health::Degraded);
+
+    FrameReport r = ok;
+    h.amend(r, HealthEvidence::NoPose);
+    EXPECT_EQ(r.health, Health::Lost);
+
+    r = ok;
+    h.amend(r, HealthEvidence::Unconfirmed);
+    EXPECT_EQ(r.health, Health::Degraded);
+    EXPECT_EQ(r.health_reason, "unconfirmed");
+    EXPECT_TRUE(r.checks.unconfirmed);
+    h.amend(r, HealthEvidence::Confirmed);
+    EXPECT_EQ(r.health, Health::Ok);
+    EXPECT_EQ(r.health_reason, "");
+    EXPECT_FALSE(r.checks.unconfirmed);
+
+    r = weak;
+    h.amend(r, HealthEvidence::Unconfirmed);
+    EXPECT_EQ(r.health_reason, "weak_y") << "a degraded frame keeps its own reasons";
+    h.amend(r, HealthEvidence::Confirmed);
+    EXPECT_EQ(r.health, Health::Degraded) << "only an unconfirmed frame is confirmed back to ok";
+
+    r = ok;
+    h.amend(r, HealthEvidence::StartAmbiguous);
+    EXPECT_EQ(r.health, Health::Degraded);
+    EXPECT_EQ(r.health_reason, "start_ambiguous");
+    r = weak;
+    h.amend(r, HealthEvidence::StartAmbiguous);
+    EXPECT_EQ(r.health_reason, "weak_y");
+
+    // assessFrame measures the solved pose against the prediction first.
+    FrameReport moved = tracked(0.9);
+    moved.used_imu = true;
+    moved.T_map_lidar_pred.translation() = Vec3d(0.4, 0, 0);
+    h.assessFrame(moved);
+    EXPECT_NEAR(moved.pred_dxyz, 0.4, 1e-12);
+    EXPECT_EQ(moved.health_reason, "prediction");
+}

@@ -222,30 +222,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
             throw ConfigError("--initial-pose auto needs [relocalization] enabled = true");
         loc.relocalize();
     }
-    // An initial pose must lie where the map can be seen from: within the map's bounds grown by
-    // the sensor's range. Else a one-line error, or the global search ([relocalization] out_of_map).
-    Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
-    for (const auto& p : prior->points()) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-    const auto checkInitial = [&](const SE3d& T, const std::string& what) {
-        const Vec3d t = T.translation();
-        const double range = loc_.features.max_range;
-        const Vec3d l = lo.cast<double>() - Vec3d::Constant(range), h = hi.cast<double>() + Vec3d::Constant(range);
-        const bool finite = t.allFinite() && T.linear().allFinite();
-        if (finite && (t.array() >= l.array()).all() && (t.array() <= h.array()).all()) return true;
-        char buf[512];
-        std::snprintf(buf, sizeof buf,
-                      "%s: position (%.6g, %.6g, %.6g) is outside the prior map %s (bounds [%.1f, %.1f] x [%.1f, %.1f] x "
-                      "[%.1f, %.1f] m grown by features.max_range = %.0f m)",
-                      what.c_str(), t.x(), t.y(), t.z(), run_.map.c_str(), lo.x(), hi.x(), lo.y(), hi.y(), lo.z(),
-                      hi.z(), range);
-        if (loc_.relocalization.out_of_map == "global" && loc.globalSearch()) {
-            MRPT_LOG_WARN_FMT("%s: localizing the first scan by the global search instead", buf);
-            loc.relocalize();
-            return false;
-        }
-        throw ConfigError(std::string(buf) + " (or set relocalization.out_of_map=global)");
-    };
-    if (T0 && checkInitial(*T0, "--initial-pose")) loc.setInitialPose(*T0);
+    // The initial pose (localization::StartPose): checked against the map's bounds, a TUM file's
+    // pose taken at the first scan's time.
+    if (T0) loc.setInitialPose(*T0, "--initial-pose");
+    if (!T0_tum.empty()) loc.setInitialPose(T0_tum, run_.initial_pose_tum);
     io::RawlogReader reader(run_.rawlog, rawlog_);
     reader.logger().setMinLoggingLevel(getMinLoggingLevel());  // --quiet: errors only
     RunOutputs out(run_.out, run_.save_localized_map ? run_.localized_map_voxel : -1.0, run_.save_report);
@@ -257,8 +237,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     // Observability scan: correspondence points coloured by translation label.
     ObservabilityScan obs_scan(std::max(0.05, run_.localized_map_voxel));
     const std::string obs_path = (fs::path(run_.out) / "observability_scan.ply").string();
-    std::vector<Vec3f> obs_pts;
-    std::vector<int8_t> obs_labels;
+    // What the outputs need of each frame, computed by the Localizer after the frame's time.
+    localization::FrameOutputs frame_out;
+    frame_out.map_voxel = run_.save_localized_map ? std::max(0.05, run_.localized_map_voxel) : 0.0;
+    frame_out.observability = true;
 
     summary_ = RunSummary{};
     summary_.method = loc_.loc.method;
@@ -268,7 +250,6 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     std::vector<double> ms, cpu, st[5];
     Trajectory est, gt;
     io::RawlogItem item;
-    static const std::vector<Vec3f> kNone;
     bool in_divergence = false;
     // The statistics of the frames processed so far, and summary.json, localized_map.pcd and
     // observability_scan.ply from them: at the end of the rawlog, and also when the run stops on
@@ -322,17 +303,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                 case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
                 case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
                 case io::RawlogItem::Kind::Lidar: {
-                    if (!T0_tum.empty() && summary_.frames == 0) {
-                        // The pose at the first scan read (e.g. the first odd scan of an even/odd
-                        // split); the file's first pose when the file does not cover that time.
-                        const auto at = interpolateAt(T0_tum, item.scan().t, 1.0, 0.05);
-                        if (!at)
-                            MRPT_LOG_WARN_FMT("%s does not cover the first scan's time %.3f s: its first pose "
-                                              "is the initial pose", run_.initial_pose_tum.c_str(), item.scan().t);
-                        const SE3d T_first = at ? *at : T0_tum.front().pose;
-                        if (checkInitial(T_first, run_.initial_pose_tum)) loc.setInitialPose(T_first);
-                    }
-                    const localization::FrameReport r = loc.process(item.scan());
+                    const localization::FrameReport r = loc.process(item.scan(), &frame_out);
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
                     if (tiles && r.health != localization::Health::Lost &&
                         tiles->update(r.T_map_lidar.translation(), loc)) {
@@ -341,12 +312,9 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                           r.index, tm.center().x(), tm.center().y(), tm.tilesLoaded(),
                                           tm.pointsLoaded());
                     }
-                    out.addFrame(r, T, run_.save_localized_map
-                                           ? loc.mapPoints(item.scan(), std::max(0.05, run_.localized_map_voxel))
-                                           : kNone);
+                    out.addFrame(r, T, frame_out.map_points);
                     est.push_back({r.t, T, {}});
-                    loc.observabilityPoints(obs_pts, obs_labels);
-                    obs_scan.add(obs_pts, obs_labels);
+                    obs_scan.add(frame_out.obs_points, frame_out.obs_labels);
                     if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
                     ms.push_back(r.ms.total);
                     cpu.push_back(r.ms.total_cpu);

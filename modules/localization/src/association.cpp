@@ -8,7 +8,6 @@
 
 namespace superloc::localization {
 
-
 namespace {
 void keep(const Correspondence& c, uint32_t i, std::vector<Correspondence>& out, std::vector<uint32_t>* feature_of) {
     out.push_back(c);
@@ -137,6 +136,18 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
 }
 
 }  // namespace
+
+AssociationParams trackingAssociation(const LocalizationParams& lp, const features::FeaturesParams& fp) {
+    AssociationParams a;
+    a.max_dist = lp.max_corr_dist;
+    a.voxel = lp.association == "voxel";
+    a.nearest_above_thickness = a.voxel ? lp.voxel_nearest_above : 0.0;
+    a.plane_max_thickness = fp.plane_max_thickness;
+    a.line_min_linearity = fp.line_min_linearity;
+    a.max_fit_residual = lp.max_fit_residual;
+    a.point_weight = lp.point_weight;
+    return a;
+}
 
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                const AssociationParams& p, std::vector<Correspondence>& out,

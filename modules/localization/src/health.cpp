@@ -1,5 +1,6 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <superloc/core/config.h>
+#include <superloc/core/se3.h>
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 
@@ -134,6 +135,35 @@ void HealthMonitor::assess(FrameReport& r) {
     if (!r.diverged && !c.not_converged && !c.badFit() && !c.prediction && !c.drift) {
         tracked_.push_back(r.inlier_ratio);
         while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
+    }
+}
+
+void HealthMonitor::assessFrame(FrameReport& rep) {
+    rep.pred_dxyz = translationDistance(rep.T_map_lidar, rep.T_map_lidar_pred);
+    rep.pred_ddeg = rotationAngle(rep.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+    assess(rep);
+}
+
+void HealthMonitor::amend(FrameReport& r, HealthEvidence e) const {
+    switch (e) {
+        case HealthEvidence::NoPose: r.health = Health::Lost; break;
+        case HealthEvidence::Unconfirmed:
+            if (r.health != Health::Ok) break;
+            r.health = Health::Degraded;
+            r.health_reason = "unconfirmed";
+            r.checks.unconfirmed = true;
+            break;
+        case HealthEvidence::Confirmed:
+            if (!r.checks.unconfirmed) break;
+            r.health = Health::Ok;
+            r.health_reason.clear();
+            r.checks.unconfirmed = false;
+            break;
+        case HealthEvidence::StartAmbiguous:
+            if (r.health != Health::Ok) break;
+            r.health = Health::Degraded;
+            r.health_reason = "start_ambiguous";
+            break;
     }
 }
 

@@ -1,5 +1,6 @@
+// LocalizerParams: every section the Localizer reads, loaded and saved together (localizer_params.h).
 #include <superloc/core/config.h>
-#include <superloc/localization/localizer.h>
+#include <superloc/localization/localizer_params.h>
 
 namespace superloc::localization {
 

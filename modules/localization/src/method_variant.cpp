@@ -106,7 +106,7 @@ MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params, co
     switch (m) {
         case Method::Icp: v.fusion = std::make_unique<OdomFusionNone>(); break;
         case Method::Ndt:
-            v.registration = Registration::Ndt;
+            v.registration = RegistrationKind::Ndt;
             v.fusion = std::make_unique<OdomFusionNone>();
             break;
         case Method::Passive: v.fusion = std::make_unique<OdomFusionPassive>(params.active); break;

@@ -1,48 +1,57 @@
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
-#include <pcl/registration/ndt.h>
+// NdtRegistration: PCL's NDT as a Registration (ndt_registration.h).
+#include <superloc/core/se3.h>
+#include <superloc/core/timing.h>
 #include <superloc/localization/ndt_registration.h>
 
 namespace superloc::localization {
 
 namespace {
-pcl::PointCloud<pcl::PointXYZ>::Ptr toPcl(const std::vector<Vec3f>& pts) {
-    pcl::PointCloud<pcl::PointXYZ>::Ptr c(new pcl::PointCloud<pcl::PointXYZ>);
-    c->resize(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) (*c)[i] = pcl::PointXYZ(pts[i].x(), pts[i].y(), pts[i].z());
-    return c;
-}
+using Clock = SteadyClock;
 }  // namespace
 
-struct NdtRegistration::Impl {
-    // PCL's align() is not const; the object is logically const for the caller.
-    mutable pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
-};
+NdtRegistration::NdtRegistration(const LocalizerParams& params, const AssociationParams& assoc)
+    : fusion_(params.fusion), imu_(params.imu), risk_(params.risk), assoc_(assoc) {}
 
-NdtRegistration::NdtRegistration(const std::vector<Vec3f>& target, const NdtParams& params)
-    : impl_(std::make_unique<Impl>()) {
-    impl_->ndt.setResolution(static_cast<float>(params.resolution));
-    impl_->ndt.setStepSize(params.step_size);
-    impl_->ndt.setTransformationEpsilon(params.epsilon);
-    impl_->ndt.setMaximumIterations(params.max_iterations);
-    impl_->ndt.setInputTarget(toPcl(target));
-}
-
-NdtRegistration::~NdtRegistration() = default;
-
-AlignResult NdtRegistration::align(const std::vector<Vec3f>& source, const SE3d& guess) const {
-    AlignResult r;
-    if (source.empty()) return r;
-    impl_->ndt.setInputSource(toPcl(source));
-    pcl::PointCloud<pcl::PointXYZ> aligned;
-    impl_->ndt.align(aligned, guess.matrix().cast<float>());
-    r.converged = impl_->ndt.hasConverged();
-    r.iterations = impl_->ndt.getFinalNumIteration();
-    r.T_target_source.matrix() = impl_->ndt.getFinalTransformation().cast<double>();
-    // Re-orthonormalise after the float round trip.
-    r.T_target_source.linear() =
-        Eigen::Quaterniond(r.T_target_source.linear()).normalized().toRotationMatrix();
-    return r;
+void NdtRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const {
+    const SE3d& T_imu_lidar = p.features->T_imu_lidar;
+    // The alignment risk is reported for ndt too (not used): correspondences at the start.
+    auto ta = Clock::now();
+    associate(p.features->pts_body, sol.state.T_map_imu(), *p.map, assoc_, sol.corr, sol.stats);
+    rep.ms.associate += msSince(ta);
+    ta = Clock::now();
+    const auto risk =
+        risk::computeAlignmentRisk(sol.corr, sol.state.T_map_imu(), T_imu_lidar.translation(), risk_);
+    rep.setRisk(risk);
+    rep.ms.risk += msSince(ta);
+    const auto t0 = Clock::now();
+    const SE3d guess = sol.state.T_map_imu() * T_imu_lidar;
+    const AlignResult a = ndt_->align(p.features->ndt_source, guess);
+    rep.rounds = 1;
+    rep.iterations = a.iterations;
+    rep.converged = a.converged;
+    const SE3d T_ndt = a.T_target_source * T_imu_lidar.inverse();
+    sol.state.setPose(T_ndt);
+    if (p.imu) {
+        // Loosely coupled, like hdl_localization's filter: the NDT pose as a measurement
+        // (sigma scan_sigma, 0.5 deg) with the IMU factor, for velocity and biases.
+        Mat6d w = Mat6d::Zero();
+        w.diagonal().head<3>().setConstant(1.0 / fusion_.scan_sigma);
+        w.diagonal().tail<3>().setConstant(1.0 / (0.5 * kDeg));
+        fusion::FrameProblemInputs in;
+        in.prev = p.prev;
+        in.cur = &sol.state;
+        in.imu = p.imu;
+        in.g_map = Vec3d(0, 0, -imu_.gravity);
+        in.acc_bias_rw = imu_.acc_bias_rw;
+        in.gyro_bias_rw = imu_.gyro_bias_rw;
+        in.cur_pose_prior = std::make_pair(T_ndt, w);
+        in.prev_prior = p.prev_prior;
+        in.marginalize = p.marginalize;
+        const auto sum = fusion::solveFrame(in, fusion_);
+        sol.marginal = sum.marginal;
+        rep.iterations += sum.iterations;
+    }
+    rep.ms.solve += msSince(t0);
 }
 
 }  // namespace superloc::localization

@@ -7,7 +7,9 @@
 //    associated as by `nearest` (the hybrid of doc/map.md).
 #pragma once
 
+#include <superloc/features/features_params.h>
 #include <superloc/fusion/scan_factor.h>
+#include <superloc/localization/localization_params.h>
 #include <superloc/map/prior_map.h>
 
 #include <vector>
@@ -29,6 +31,10 @@ struct AssociationParams {
     double point_weight = 0.1;         ///< weight of a point-to-point (centroid) correspondence
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
 };
+
+/// The run's association at the finest level from [localization] association and
+/// voxel_nearest_above (nearest, voxel, or the hybrid) and the [features] shape thresholds.
+AssociationParams trackingAssociation(const LocalizationParams& lp, const features::FeaturesParams& fp);
 
 struct AssociationStats {
     size_t plane = 0, line = 0, point = 0;  ///< correspondences by type

@@ -48,6 +48,15 @@ struct HealthChecks {
 };
 const char* healthName(Health h);  ///< "ok", "degraded", "lost"
 
+/// What the rest of the Localizer knows of a frame beyond its registration's report, handed to
+/// the HealthMonitor (amend), which alone decides what it makes of the frame's health.
+enum class HealthEvidence {
+    NoPose,          ///< localized without a pose (relocalize(), or candidates tracked): lost until placed
+    Unconfirmed,     ///< after a doubt no search settled: the frame waits for a search to confirm it
+    Confirmed,       ///< a search found nothing better around an unconfirmed frame
+    StartAmbiguous,  ///< the start check found another pose that fits about as well
+};
+
 /// Section [health] of the INI.
 struct HealthParams : public mrpt::config::CLoadableOptions {
     double weak_gamma = 0.3;            ///< [-] an axis with gamma below: degraded (the risk flag is 0.2)
@@ -72,7 +81,8 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
     void validate() const;
 };
 
-/// Classifies frames in order and keeps the reference inlier ratio of this run.
+/// Classifies frames in order and keeps the reference inlier ratio of this run. The only writer
+/// of a frame's health: the Tracker and the Recovery hand it their evidence.
 class HealthMonitor {
    public:
     explicit HealthMonitor(const HealthParams& p = {}) : p_(p) {}
@@ -80,6 +90,13 @@ class HealthMonitor {
     /// (diverged, converged, gamma, inlier_ratio, pred_dxyz/pred_ddeg, used_imu) and updates
     /// the reference.
     void assess(FrameReport& rep);
+    /// assess() after measuring the solved pose against the predicted one (pred_dxyz, pred_ddeg):
+    /// what a frame gets when its solve is done, and again when a relocalization replaced it.
+    void assessFrame(FrameReport& rep);
+    /// What the evidence makes of a frame already assessed: NoPose lost; Unconfirmed an `ok`
+    /// frame degraded ("unconfirmed"), Confirmed back to `ok`; StartAmbiguous an `ok` frame
+    /// degraded ("start_ambiguous").
+    void amend(FrameReport& rep, HealthEvidence e) const;
     /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
     double reference() const;
     /// What assess() would say about a candidate (relocalization), without touching the reference.

@@ -34,7 +34,7 @@
 
 namespace superloc::localization {
 
-enum class Registration { Icp, Ndt };
+enum class RegistrationKind { Icp, Ndt };  ///< which Registration (registration.h) a method tracks with
 
 /// What a fusion policy sees of the frame being solved (body = IMU frame).
 struct FusionFrame {
@@ -46,6 +46,11 @@ struct FusionFrame {
     /// Where the estimate without odom_alt (scan above its noise floor + IMU window,
     /// fusion::EstimateInformation) is weak before the solve, and where the scan alone is.
     fusion::Weakness est, scan;
+    /// The IMU window's predicted information on the current pose, from the previous state's
+    /// marginal prior and the IMU preintegration (issue 27). Not computed yet: its place is
+    /// Tracker::trackedSolve (tracker.cpp), once per tracked frame before the first round's
+    /// prior().
+    std::optional<Mat6d> window_info;
 };
 
 class OdomFusion {
@@ -138,7 +143,7 @@ class OdomFusionEigenRemap : public OdomFusion {
 };
 
 struct MethodVariant {
-    Registration registration = Registration::Icp;
+    RegistrationKind registration = RegistrationKind::Icp;
     std::unique_ptr<OdomFusion> fusion;
 };
 

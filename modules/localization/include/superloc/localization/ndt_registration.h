@@ -1,40 +1,29 @@
-// PCL's NormalDistributionsTransform as a scan-to-map registration step (method=ndt, the
-// hdl_localization family). PCL stays inside ndt_registration.cpp.
+// The NDT registration (method = ndt, the hdl_localization family): PCL's NDT from the start
+// pose on every deskewed voxel candidate (NdtAligner), then, with IMU, its pose as a measurement
+// beside the IMU factor (loosely coupled) for velocity and biases. The alignment risk is
+// reported from correspondences at the start pose (not used).
 #pragma once
 
-#include <superloc/core/types.h>
-
-#include <memory>
-#include <vector>
+#include <superloc/localization/localizer_params.h>
+#include <superloc/localization/ndt_aligner.h>
+#include <superloc/localization/registration.h>
 
 namespace superloc::localization {
 
-struct NdtParams {
-    double resolution = 1.0;   ///< [m] cell size
-    double step_size = 0.1;    ///< [m]
-    double epsilon = 1e-4;
-    int max_iterations = 30;
-};
-
-struct AlignResult {
-    SE3d T_target_source = SE3d::Identity();
-    bool converged = false;
-    int iterations = 0;
-};
-
-class NdtRegistration {
+class NdtRegistration final : public Registration {
    public:
-    NdtRegistration(const std::vector<Vec3f>& target, const NdtParams& params);
-    ~NdtRegistration();
-    NdtRegistration(const NdtRegistration&) = delete;
-    NdtRegistration& operator=(const NdtRegistration&) = delete;
-
-    /// Aligns source (its own frame) to the target starting from the guess T_target_source.
-    AlignResult align(const std::vector<Vec3f>& source, const SE3d& guess) const;
+    /// `assoc`: the tracking association (risk and quality correspondences).
+    NdtRegistration(const LocalizerParams& params, const AssociationParams& assoc);
+    /// The map's NDT grid (PreparedMap::ndt); set before solving.
+    void setTarget(const NdtAligner* ndt) { ndt_ = ndt; }
+    void solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const override;
 
    private:
-    struct Impl;
-    std::unique_ptr<Impl> impl_;
+    fusion::FusionParams fusion_;
+    imu::ImuParams imu_;
+    risk::RiskParams risk_;
+    AssociationParams assoc_;
+    const NdtAligner* ndt_ = nullptr;
 };
 
 }  // namespace superloc::localization

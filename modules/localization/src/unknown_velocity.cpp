@@ -4,7 +4,7 @@
 #include <superloc/core/timing.h>
 #include <superloc/features/deskew.h>
 #include <superloc/fusion/scan_factor.h>
-#include <superloc/localization/localizer.h>
+#include <superloc/localization/tracker.h>
 
 #include <algorithm>
 #include <memory>
@@ -16,7 +16,7 @@ namespace {
 using Clock = SteadyClock;
 }  // namespace
 
-bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
+bool Tracker::measureMotion(Frame& f, FrameReport& rep) {
     // The last scan as a small map: its voxel candidates are one point per features.voxel_size
     // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
     map::MapParams mp;
@@ -24,30 +24,30 @@ bool Localizer::motionFromLastScan(Prediction& pred, FrameReport& rep) {
     PointCloud cloud;  // the points are used once: the frame keeps its own scan when it ends
     cloud.points = std::move(last_scan_points_);
     last_scan_points_.clear();
-    std::shared_ptr<const map::PriorMap> scan_map = std::make_shared<const map::PriorMap>(cloud, mp, last_scan_origin_);
-    const Solution saved = solution();
-    const auto saved_marginal = cur_marginal_;
-    std::swap(map_, scan_map);
-    cur_.setPose(prev_.T_map_imu());  // no motion since the last scan
+    const map::PriorMap scan_map(cloud, mp, last_scan_origin_);
+    FrameSolution sol;
+    sol.state = f.start;
+    sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan
+    RegistrationProblem p = problem(f, SolvePurpose::LastScan, true, nullptr);
+    p.map = &scan_map;
     FrameReport r;
-    solveIcp(nullptr, /*wide=*/true, r, Solve::LastScan);
-    const InlierStats in = inlierStats(corr_, pts_body_.size(), cur_.T_map_imu(), params_.loc.inlier_dist);
-    const SE3d T = cur_.T_map_imu();
-    std::swap(map_, scan_map);
-    restore(saved);
-    cur_marginal_ = saved_marginal;
+    icp_.solve(p, sol, r);
+    const InlierStats in = inlierStats(sol.corr, f.features.pts_body.size(), sol.state.T_map_imu(),
+                                       params_.loc.inlier_dist);
     rep.ms.associate += r.ms.associate;
     rep.ms.solve += r.ms.solve;
     // Not "converged" as a criterion: the last scan's 0.5 m candidates leave the last
     // millimetres hesitant; a wrong motion is caught by the map solve's jump check.
     if (r.diverged || in.ratio < params_.loc.min_inlier_ratio) return false;
-    pred.T_map_imu = T;
+    f.pred.T_map_imu = sol.state.T_map_imu();
     return true;
 }
 
-void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, const imu::Preintegration* pre,
-                                   FrameReport& rep) {
-    if (scan.rel_time.size() != scan.size() || feature_idx_.empty()) return;
+void Tracker::sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol,
+                            FrameReport& rep) {
+    const Scan& scan = *f.scan;
+    ScanFeatures& ft = f.features;
+    if (scan.rel_time.size() != scan.size() || ft.feature_idx.empty()) return;
     const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
     if (!(s_min < 0)) return;
     const Mat3d R_il = scan.T_imu_lidar.linear();
@@ -57,6 +57,7 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
     // correspondences outweigh it wherever the scene does tell it.
     constexpr double kVelocityPriorSigma = 1.0, kSettled = 0.02;  // [m/s]
     constexpr int kSteps = 4;
+    const fusion::RobustKernel kernel = fusion::robustKernelFromString(params_.fusion.robust_kernel);
     Vec3d v_l = Vec3d::Zero();
     std::vector<uint32_t> feature_of;
     const double inv_var = 1.0 / (params_.fusion.scan_sigma * params_.fusion.scan_sigma);
@@ -64,25 +65,25 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
     for (int step = 0; step < kSteps && !rep.diverged; ++step) {
         // The world point of feature f moves by R R_il s_f dv when the sweep velocity (LiDAR
         // frame) changes by dv: three more columns beside the pose's six.
-        const SE3d T = cur_.T_map_imu();
+        const SE3d T = sol.state.T_map_imu();
         const Mat3d R = T.linear();
         auto t0 = Clock::now();
-        associate(pts_body_, T, *map_, assoc_, corr_, last_stats_, &feature_of);
+        associate(ft.pts_body, T, *map_, icp_.association(), sol.corr, sol.stats, &feature_of);
         rep.ms.associate += msSince(t0);
         Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
         Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
         double r[3], J[18];
         Eigen::Matrix<double, 3, 9> J9;  // the first residualDim rows are used
-        for (size_t k = 0; k < corr_.size(); ++k) {
-            const Correspondence& c = corr_[k];
+        for (size_t k = 0; k < sol.corr.size(); ++k) {
+            const Correspondence& c = sol.corr[k];
             if (c.weight <= 0) continue;
-            const double s = scan.rel_time[feature_idx_[feature_of[k]]];
+            const double s = scan.rel_time[ft.feature_idx[feature_of[k]]];
             fusion::correspondenceResidual(c, R, T.translation(), r, J);
             const int dim = fusion::residualDim(c.type);
             const Eigen::Map<const Eigen::Matrix<double, 3, 6, Eigen::RowMajor>> J6(J);
             const Eigen::Map<const Vec3d> res3(r);
             const auto res = res3.head(dim);
-            const double w = c.weight * fusion::robustWeight(kernel_, res.norm(), params_.fusion.kernel_scale) * inv_var;
+            const double w = c.weight * fusion::robustWeight(kernel, res.norm(), params_.fusion.kernel_scale) * inv_var;
             J9.topLeftCorner(dim, 6) = J6.topRows(dim);
             J9.topRightCorner(dim, 3) = J6.topLeftCorner(dim, 3) * R * R_il * s;
             H.noalias() += w * J9.topRows(dim).transpose() * J9.topRows(dim);
@@ -96,13 +97,11 @@ void Localizer::solveSweepVelocity(const Scan& scan, const Prediction& pred, con
         v_l += dv;
         // Deskew again with the estimate and re-solve from the current pose.
         t0 = Clock::now();
-        last_motion_ = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
-        features::deskewPoints(scan.points, scan.rel_time, feature_idx_, last_motion_, deskewed_);
-        for (size_t i = 0; i < deskewed_.size(); ++i) pts_body_[i] = scan.T_imu_lidar * deskewed_[i].cast<double>();
+        ft.redeskew(scan, features::SweepMotion::fromTwist(v_l, w_l, -s_min));
         rep.ms.preprocess += msSince(t0);
         rep.deskewed = true;
         rep.rounds = 0, rep.iterations = 0;
-        solveIcp(pre, /*wide=*/false, rep);
+        trackedSolve(f, sol, /*wide=*/false, imu, rep);
         rounds += rep.rounds, iterations += rep.iterations;
         if (dv.norm() < kSettled) break;
     }

@@ -1,0 +1,138 @@
+// The Tracker (doc/localizer.md "Structure"): one frame from its prediction to its solution, and
+// what the next frame starts from.
+//   begin     step 1 motion model (motion_model.h), step 2 features (scan_features.h)
+//   track     steps 3-6: the method's registration (registration.h) with the IMU window and the
+//             odom_alt fusion (frame_fusion.h), the sweep velocity of a frame of unknown
+//             velocity, then the frame's quality, divergence and velocity (finish)
+//   solveFrom the same registration from another start (a pose the Recovery verifies)
+//   end       the frame's final state becomes the next frame's previous one, with its marginal,
+//             its estimate information and the last scan (motion of the next frame without IMU)
+// Every solve returns a FrameSolution by value; the Tracker's own state changes in end() only.
+#pragma once
+
+#include <mrpt/system/COutputLogger.h>
+
+#include <cmath>
+#include <superloc/localization/frame_fusion.h>
+#include <superloc/localization/icp_registration.h>
+#include <superloc/localization/localizer_params.h>
+#include <superloc/localization/method_variant.h>
+#include <superloc/localization/motion_model.h>
+#include <superloc/localization/ndt_registration.h>
+#include <superloc/localization/registration.h>
+#include <superloc/localization/scan_features.h>
+#include <superloc/localization/sensor_history.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace superloc::localization {
+
+/// The frame being processed: its scan, prediction and features, and the IMU window's previous
+/// state as this frame's own solves leave it (optimised with the current state when the IMU
+/// takes part).
+struct Frame {
+    const Scan* scan = nullptr;
+    bool first = false;             ///< no frame before it was placed (no previous state)
+    Prediction pred;
+    imu::Preintegration pre;        ///< the prediction's preintegration (pred.used_imu)
+    fusion::FrameState start;       ///< the predicted state at the scan's time: where solves start
+    fusion::FrameState prev;        ///< the previous frame's state (the IMU window's first)
+    ScanFeatures features;          ///< step 2 (deskewed again by the sweep velocity)
+};
+
+/// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior), or as the
+/// first frame's own registration (a start seed, with its sweep velocity).
+enum class VerifyAs { Hypothesis, FirstFrame };
+
+class Tracker {
+   public:
+    Tracker(const LocalizerParams& params, const MethodVariant& variant, const SensorHistory& sensors,
+            const mrpt::system::COutputLogger& log);
+    /// The prior map (and its NDT grid, method ndt) the next frames are solved in.
+    void setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt);
+    const map::PriorMap& map() const { return *map_; }
+
+    /// A frame was placed (the next one is not a first frame).
+    bool started() const { return have_prev_; }
+    /// Whether the next frame starts with its velocity unknown (after a relocalization).
+    void setRestart(bool r) { restart_ = r; }
+    bool restarting() const { return restart_; }
+
+    /// Steps 1-2: the prediction (a first frame at `T_map_lidar0`) and the features.
+    void begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameReport& rep);
+    /// Whether the frame's velocity is unknown (doc/localizer.md "Unknown velocity": a first
+    /// frame, a restart, no IMU and no velocity yet or a gap over max_cv_gap). Without IMU, when
+    /// `may_measure`, the motion measured against the last scan makes it known: the prediction
+    /// becomes that motion (rep.motion_from_scan).
+    bool velocityUnknown(Frame& f, bool may_measure, FrameReport& rep);
+    /// Steps 3-6: the frame's own solve from its prediction; `velocity_unknown`: wide, from the
+    /// coarsest level, no jump check.
+    FrameSolution track(Frame& f, bool velocity_unknown, FrameReport& rep);
+    /// The frame solved again from `start` (at the scan's time), wide and with no jump check,
+    /// finished as the frame would be; `r` (a copy of the report it builds on) gets the solve's
+    /// fields. A hypothesis is solved in the voxel map without prior, its inliers measured as
+    /// tracking measures them; a start seed (VerifyAs::FirstFrame) by the frame's own
+    /// registration with its sweep velocity (which deskews f's features again, as track does).
+    FrameSolution solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r);
+    /// The frame is final at `state` (its solution's, or a restart's): what the next frame starts
+    /// from. `sol`: the frame's final solution (marginal, fusion evidence); `requested`: the
+    /// frame was localized without a pose; `pending`: a relocalization is still asked for.
+    void end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
+             bool requested, bool pending);
+    /// The frame's correspondences back once nothing needs them: the next track() solves into
+    /// them (no allocation per frame).
+    void recycle(std::vector<Correspondence>&& corr) { spare_corr_ = std::move(corr); }
+
+   private:
+    /// A solve of f's features in the map in use from f's window: a tracked one (purpose Track)
+    /// with the IMU window's prior and marginal, `imu` when the frame has it.
+    RegistrationProblem problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const;
+    /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state.
+    void trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu, FrameReport& rep);
+    /// Without IMU (unknown_velocity.cpp): f's features registered, wide and from no motion,
+    /// against the last frame's scan; when that converges with enough inliers, the prediction
+    /// becomes the motion it measured and true is returned.
+    bool measureMotion(Frame& f, FrameReport& rep);
+    /// With timed points (unknown_velocity.cpp): the sweep's translation velocity, estimated with
+    /// the pose from the converged solve's correspondences (a 9-DoF Gauss-Newton step), the
+    /// features deskewed again with it and the frame re-solved as a tracked one, until it settles.
+    void sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol,
+                       FrameReport& rep);
+    bool wantsSweepVelocity(const Prediction& pred) const;
+    /// Step 6: the quality at the estimate, divergence (`unchecked`: no jump check against the
+    /// prediction), the velocity without IMU, the reported poses.
+    void finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol, FrameReport& rep) const;
+
+    LocalizerParams params_;
+    const MethodVariant& variant_;
+    const SensorHistory& sensors_;
+    const mrpt::system::COutputLogger& log_;
+    Vec3d g_map_;
+    Preprocessor preproc_;
+    IcpRegistration icp_;
+    NdtRegistration ndt_;
+    OdomAltLink odom_link_;
+    std::shared_ptr<const map::PriorMap> map_;
+
+    // What the next frame starts from.
+    bool have_prev_ = false;
+    bool restart_ = false;  ///< the last frame was relocalized or restarted: velocity unknown
+    fusion::FrameState prev_;
+    std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
+    /// The IMU window's prior on the previous state (FusionParams::window = marginalized): the
+    /// marginal of the last frame's own solve, or none (fixed sigmas) when that frame's pose did
+    /// not come from it.
+    std::optional<fusion::StatePrior> prev_marginal_;
+    /// What the estimate knows without odom_alt (the weak-axis decision, doc/method.md §2).
+    fusion::EstimateInformation est_info_{std::pow(std::sin(params_.risk.normal_noise_deg * M_PI / 180), 2),
+                                          params_.risk.weak_sigma_xyz};
+    /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
+    /// position, kept without IMU for measureMotion; empty after a lost frame.
+    std::vector<Vec3f> last_scan_points_;
+    Vec3f last_scan_origin_ = Vec3f::Zero();
+    std::vector<Correspondence> spare_corr_;  ///< recycle()
+};
+
+}  // namespace superloc::localization

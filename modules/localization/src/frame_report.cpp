@@ -1,0 +1,18 @@
+// FrameReport (frame_report.h): the risk step's per-frame results.
+#include <superloc/localization/frame_report.h>
+
+namespace superloc::localization {
+
+void FrameReport::setRisk(const risk::RiskReport& r) {
+    gamma = r.gamma;
+    degenerate = r.degenerate;
+    degenerate_axes = risk::degenerateAxes(r);
+    flags_labels1 = risk::axisLetters(r.rules.labels1);
+    flags_labels2 = risk::axisLetters(r.rules.labels2);
+    flags_eigen = risk::axisLetters(r.rules.eigen);
+    hessian_eigenvalues = r.weight_sum > 0 ? Vec6d(r.eigenvalues / r.weight_sum) : Vec6d::Zero();
+    translation_eigenvalues = r.translation_eigenvalues;
+    weakest_translation = r.weakest_translation;
+}
+
+}  // namespace superloc::localization

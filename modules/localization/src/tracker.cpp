@@ -1,0 +1,279 @@
+// The Tracker: one frame from its prediction to its solution (tracker.h).
+#include <superloc/core/se3.h>
+#include <superloc/core/timing.h>
+#include <superloc/localization/tracker.h>
+
+#include <cmath>
+
+namespace superloc::localization {
+
+namespace {
+using Clock = SteadyClock;
+}  // namespace
+
+Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, const SensorHistory& sensors,
+                 const mrpt::system::COutputLogger& log)
+    : params_(params),
+      variant_(variant),
+      sensors_(sensors),
+      log_(log),
+      g_map_(0, 0, -params.imu.gravity),
+      preproc_(params.features),
+      icp_(params),
+      ndt_(params, icp_.association()),
+      odom_link_(sensors, *variant.fusion, params_.fusion, methodFromString(params.loc.method), log) {}
+
+void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt) {
+    map_ = std::move(map);
+    ndt_.setTarget(ndt);
+}
+
+void Tracker::begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameReport& rep) {
+    f.scan = &scan;
+    f.first = !have_prev_;
+    f.prev = prev_;
+    // Step 1: prediction.
+    auto t0 = Clock::now();
+    f.pre = imu::Preintegration(prev_.bias(), imu::ImuNoise{params_.imu.acc_noise, params_.imu.gyro_noise});
+    if (f.first) {
+        imu::ImuBias b;
+        std::optional<double> tilt_deg;
+        f.pred = predictFirst(scan, T_map_lidar0 * scan.T_imu_lidar.inverse(), sensors_, params_.loc.use_imu,
+                              params_.imu, b, tilt_deg);
+        if (tilt_deg)
+            log_.logFmt(mrpt::system::LVL_INFO, "IMU at rest: gyro bias %.4f %.4f %.4f rad/s, tilt vs initial pose %.2f deg",
+                        b.gyro.x(), b.gyro.y(), b.gyro.z(), *tilt_deg);
+        f.start = fusion::FrameState{};
+        f.start.setBias(b);
+    } else {
+        f.pred = predictMotion(prev_, prev_prev_, scan.t, sensors_, *variant_.fusion, params_.loc.use_imu, g_map_,
+                               f.pre);
+        f.start = prev_;
+        f.start.setVelocity(f.pred.v);
+    }
+    f.start.t = scan.t;
+    f.start.setPose(f.pred.T_map_imu);
+    rep.used_imu = f.pred.used_imu;
+    rep.T_map_lidar_pred = f.pred.T_map_imu * scan.T_imu_lidar;
+    rep.ms.predict = msSince(t0);
+
+    // Step 2: features.
+    t0 = Clock::now();
+    preproc_.run(scan, f.pred, prev_, sensors_, g_map_, variant_.registration == RegistrationKind::Ndt, f.features,
+                 rep);
+    rep.ms.preprocess = msSince(t0);
+}
+
+bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
+    const Scan& scan = *f.scan;
+    // Unknown velocity (doc/localizer.md): the first frame, the second without IMU (no velocity
+    // yet), and a constant-velocity prediction over a gap longer than max_cv_gap start coarse,
+    // and their solved pose is not checked against the prediction (it may be far off, rightly);
+    // without IMU, the last scan first measures the motion, and the frame is tracked from it.
+    bool unknown = f.first || restart_ ||
+                   (!f.pred.used_imu && !f.pred.from_odom &&
+                    (!prev_prev_ || scan.t - prev_.t > params_.loc.max_cv_gap));
+    if (unknown && !f.first && may_measure && !f.pred.used_imu && params_.loc.motion_from_last_scan &&
+        !last_scan_points_.empty() && measureMotion(f, rep)) {
+        // Measured, not assumed: the frame is solved as a tracked one from the motion the last
+        // scan gives, and checked against it.
+        unknown = false;
+        rep.motion_from_scan = true;
+        f.start.setPose(f.pred.T_map_imu);
+        rep.T_map_lidar_pred = f.pred.T_map_imu * scan.T_imu_lidar;
+    }
+    restart_ = false;
+    return unknown;
+}
+
+FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) {
+    FrameSolution sol;
+    sol.state = f.start;
+    sol.corr = std::move(spare_corr_);
+    sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
+    const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
+    if (variant_.registration == RegistrationKind::Ndt) {
+        ndt_.solve(problem(f, SolvePurpose::Track, false, imu), sol, rep);
+    } else {
+        trackedSolve(f, sol, velocity_unknown, imu, rep);
+        if (velocity_unknown && wantsSweepVelocity(f.pred) && !rep.diverged) sweepVelocity(f, f.pred, imu, sol, rep);
+    }
+    // Step 6: report.
+    finish(f, f.pred, velocity_unknown, sol, rep);
+    return sol;
+}
+
+void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,
+                           FrameReport& rep) {
+    // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve).
+    // (Issue 27: FusionFrame::window_info, the IMU window's predicted information on the
+    // current pose, belongs here, before the first round's prior().)
+    FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
+                       odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
+    // What the estimate knows without odom_alt, carried from the last frame through the IMU
+    // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it.
+    const auto t_est = Clock::now();
+    fusion::FrameState pv = f.prev, c = sol.state;
+    fusion::FrameProblemInputs in;
+    in.prev = &pv;
+    in.cur = &c;
+    in.imu = imu;
+    in.g_map = g_map_;
+    in.acc_bias_rw = params_.imu.acc_bias_rw;
+    in.gyro_bias_rw = params_.imu.gyro_bias_rw;
+    sol.est_info = est_info_;
+    sol.est_info->predict(in, params_.fusion);
+    rep.ms.risk += msSince(t_est);
+    RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
+    p.fusion = &fusion;
+    icp_.solve(p, sol, rep);
+}
+
+RegistrationProblem Tracker::problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const {
+    RegistrationProblem p;
+    p.features = &f.features;
+    p.map = map_.get();
+    p.purpose = purpose;
+    p.wide = wide;
+    p.prev = &f.prev;
+    p.imu = imu;
+    if (purpose == SolvePurpose::Track) {
+        p.prev_prior = prev_marginal_ ? &*prev_marginal_ : nullptr;
+        p.marginalize = params_.fusion.window == "marginalized";
+    }
+    return p;
+}
+
+bool Tracker::wantsSweepVelocity(const Prediction& pred) const {
+    const auto& fp = params_.features;
+    return !pred.at_rest && params_.loc.sweep_velocity && fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu);
+}
+
+FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r) {
+    r.diverged = false;
+    r.diverged_reason.clear();
+    r.converged = false;
+    r.rounds = r.iterations = 0;
+    FrameSolution sol;
+    sol.state = start;
+    sol.state.t = f.scan->t;
+    sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
+    const Prediction* frame_pred = as == VerifyAs::FirstFrame ? &f.pred : nullptr;
+    if (frame_pred) {
+        trackedSolve(f, sol, true, nullptr, r);
+        if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol, r);
+    } else {
+        icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol, r);
+        if (!icp_.association().voxel) {
+            // Inliers measured as tracking measures them, so that the refined poses compare with
+            // the frame's own solve (the two associations count inliers differently).
+            const auto ta = Clock::now();
+            associate(f.features.pts_body, sol.state.T_map_imu(), *map_, icp_.association(), sol.corr, sol.stats);
+            r.ms.associate += msSince(ta);
+        }
+    }
+    // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
+    Prediction p = frame_pred ? *frame_pred : Prediction{};
+    p.T_map_imu = start.T_map_imu();
+    finish(f, p, true, sol, r);
+    r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
+    r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
+    return sol;
+}
+
+void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol,
+                     FrameReport& rep) const {
+    const auto& lp = params_.loc;
+    const Scan& scan = *f.scan;
+    // Divergence by jump: the solved pose far from the prediction (not on the first frame, whose
+    // "prediction" is the user's initial guess). An IMU prediction is trusted over such a
+    // registration: the frame keeps the prediction (reason "jump_rejected"), so one bad match
+    // cannot throw the velocity, and every later prediction, away.
+    const bool jump = !unchecked && (translationDistance(sol.state.T_map_imu(), pred.T_map_imu) > lp.max_jump_xyz ||
+                                     rotationAngle(sol.state.T_map_imu(), pred.T_map_imu) > lp.max_jump_deg * kDeg);
+    const bool rejected = jump && pred.used_imu;
+    if (rejected) {
+        sol.state.setPose(pred.T_map_imu);
+        sol.state.setVelocity(pred.v);
+    }
+    const SE3d T = sol.state.T_map_imu();
+    // Quality at the estimate from the last association (re-querying the map here would cost
+    // a whole association round; NDT has none, so it associates once).
+    if (variant_.registration == RegistrationKind::Ndt || rejected) {
+        const auto t0 = Clock::now();
+        associate(f.features.pts_body, T, *map_, icp_.association(), sol.corr, sol.stats);
+        rep.ms.associate += msSince(t0);
+    }
+    rep.corr_plane = sol.stats.plane;
+    rep.corr_line = sol.stats.line;
+    rep.corr_point = sol.stats.point;
+    rep.too_far = sol.stats.too_far;
+    const InlierStats in = inlierStats(sol.corr, f.features.pts_body.size(), T, lp.inlier_dist);
+    rep.inlier_ratio = in.ratio;
+    rep.residual_rms = in.rms;
+    if (jump) {
+        rep.diverged = true;
+        rep.diverged_reason = rejected ? "jump_rejected" : "jump";
+    } else if (!rep.diverged && in.ratio < lp.min_inlier_ratio) {
+        rep.diverged = true;
+        rep.diverged_reason = "inliers";
+    }
+    if (!pred.used_imu && !rejected) {
+        // Without IMU the velocity is the finite difference of the estimates. The first frame's
+        // is zero, or the sweep's (sweepVelocity: the IMU body's, in the map) when it was
+        // estimated; the next frame then holds it by the fixed prior (the solve's marginal was
+        // taken at zero velocity).
+        const double dt = scan.t - f.prev.t;
+        if (have_prev_ && dt > 0) {
+            sol.state.setVelocity((T.translation() - f.prev.T_map_imu().translation()) / dt);
+        } else if (!rep.sweep_velocity.isZero()) {
+            const Mat3d R_il = scan.T_imu_lidar.linear();
+            sol.state.setVelocity(T.linear() *
+                                  (R_il * rep.sweep_velocity - pred.w_body.cross(scan.T_imu_lidar.translation())));
+            sol.marginal.reset();
+        } else {
+            sol.state.setVelocity(Vec3d::Zero());
+        }
+    }
+    rep.T_map_imu = T;
+    rep.T_map_lidar = T * scan.T_imu_lidar;
+    rep.velocity = sol.state.velocity();
+    rep.bias = sol.state.bias();
+}
+
+void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
+                  bool requested, bool pending) {
+    const Scan& scan = *f.scan;
+    // A relocalized frame starts afresh: no velocity from the frames before it.
+    prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(f.prev) : std::nullopt;
+    prev_ = state;
+    // Without IMU the next frame may need this scan to measure its motion (measureMotion): its
+    // candidates, deskewed like its features, at the frame's final pose; not a lost one's.
+    if (!rep.used_imu && params_.loc.motion_from_last_scan && rep.health != Health::Lost && !rep.diverged) {
+        features::deskewPoints(scan.points, scan.rel_time, f.features.candidates, f.features.motion,
+                               last_scan_points_);
+        for (auto& p : last_scan_points_) p = (rep.T_map_lidar * p.cast<double>()).cast<float>();
+        last_scan_origin_ = rep.T_map_lidar.translation().cast<float>();
+    } else {
+        last_scan_points_.clear();
+    }
+    // The marginal holds only for the state its solve produced: not after a divergence, a
+    // recovery, a restart or any later change of the pose (jump rejection, eigen_remap).
+    const bool own_solve = sol.marginal && !rep.diverged && !rep.recovered && !restart_ &&
+                           (sol.marginal->T_ref.matrix() - state.T_map_imu().matrix()).cwiseAbs().maxCoeff() < 1e-9;
+    prev_marginal_ = own_solve ? sol.marginal : std::nullopt;
+    // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
+    const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
+    if (tracked) {
+        if (sol.est_info) est_info_ = *sol.est_info;
+        est_info_.commit(state, sol.scan_info);
+    } else {
+        est_info_.reset();
+    }
+    if (tracked && !f.first && variant_.fusion->usesOdomAlt()) odom_link_.frameDone(*variant_.fusion, sol, f.prev, rep);
+    if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
+        prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);
+    have_prev_ = have_prev_ || !pending;
+}
+
+}  // namespace superloc::localization

@@ -1,0 +1,32 @@
+// Verifier: a pose tried for the current scan, solved and judged (verify.h).
+#include <superloc/localization/verify.h>
+
+namespace superloc::localization {
+
+Attempt Verifier::verify(Frame& f, const fusion::FrameState& start, const FrameReport& base, VerifyAs as) const {
+    Attempt a;
+    a.rep = base;
+    a.sol = tracker_.solveFrom(f, start, as, a.rep);
+    a.health = health_.classify(a.rep, &a.why, &a.checks);
+    return a;
+}
+
+std::vector<Attempt> Verifier::verify(Frame& f, const std::vector<SE3d>& poses, const FrameReport& base,
+                                      VerifyAs as) const {
+    std::vector<Attempt> out;
+    out.reserve(poses.size());
+    for (const SE3d& T : poses) {
+        fusion::FrameState start;
+        start.setBias(f.prev.bias());
+        start.setPose(T * f.scan->T_imu_lidar.inverse());
+        out.push_back(verify(f, start, base, as));
+    }
+    return out;
+}
+
+bool Verifier::fits(const FrameReport& rep, const HealthChecks& c, Health h) const {
+    return !c.not_converged && h != Health::Lost && !c.badFit() &&
+           (health_.reference() > 0 || rep.inlier_ratio >= params_.accept_inlier_ratio);
+}
+
+}  // namespace superloc::localization

@@ -1,0 +1,204 @@
+// The Localizer's parts (doc/localizer.md "Structure") on the synthetic box room (box_room.h):
+// a verification leaves the frame and the next frames as they were (no state to save and
+// restore), the outputs come with the frame that asked for them, the initial pose is resolved in
+// StartPose, and the HealthMonitor alone turns the others' evidence into a health.
+#include <gtest/gtest.h>
+#include <superloc/core/config.h>
+#include <superloc/core/se3.h>
+#include <superloc/localization/localizer.h>
+#include <superloc/localization/start_pose.h>
+#include <superloc/localization/tracker.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "box_room.h"
+
+using namespace superloc;
+using namespace superloc::localization;
+using namespace superloc::testing;
+
+namespace {
+
+const SE3d kImuLidar = [] {
+    SE3d T = SE3d::Identity();
+    T.translation() = Vec3d(0.05, 0, 0.1);
+    return T;
+}();
+
+std::shared_ptr<const map::PriorMap> boxMap() {
+    map::MapParams mp;
+    mp.voxel_size = 0.1;
+    return std::make_shared<map::PriorMap>(boxSurface(0.05), mp, Vec3f(0, 0, 1.5));
+}
+
+LocalizerParams boxParams() {
+    LocalizerParams p;
+    p.features.voxel_size = 0.3;
+    return p;
+}
+
+/// Distance of a map-frame point to the nearest wall of the box room.
+double toWall(const Vec3f& p) {
+    double d = 1e9;
+    for (int k = 0; k < 3; ++k) d = std::min({d, std::abs(p[k] - kRoomMin[k]), std::abs(p[k] - kRoomMax[k])});
+    return d;
+}
+
+}  // namespace
+
+// The Tracker alone, twice over 12 frames (with IMU, and without: constant velocity and the
+// motion measured against the last scan): one of them also verifies three poses 0.3-1 m off on
+// every frame between its own solve and its end, as the Recovery does. Every report and state
+// must be the same to the bit: a verification returns its own FrameSolution and changes neither
+// the frame's nor what the next frames start from.
+TEST(Tracker, VerifyingPosesChangesNothingOfTheFrame) {
+    const Motion m;
+    const auto map = boxMap();
+    mrpt::system::COutputLogger log("test");
+    log.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    for (const bool use_imu : {true, false}) {
+        LocalizerParams p = boxParams();
+        p.loc.use_imu = use_imu;
+        const MethodVariant variant = makeMethodVariant(Method::Icp, p.fusion, p.risk);
+        SensorHistory sensors[2];
+        std::vector<std::unique_ptr<Tracker>> trackers;
+        for (int k = 0; k < 2; ++k) {
+            trackers.push_back(std::make_unique<Tracker>(p, variant, sensors[k], log));
+            trackers[k]->setMap(map, nullptr);
+        }
+        double t_imu[2] = {0, 0};
+        int verified = 0;
+        for (int i = 1; i <= 12; ++i) {
+            const double t = 0.1 * i;
+            const Scan scan = sweep(m, kImuLidar, t);
+            FrameReport rep[2];
+            FrameSolution sol[2];
+            for (int k = 0; k < 2; ++k) {
+                for (const ImuSample& smp : imuUpTo(m, t, t_imu[k])) sensors[k].addImu(smp);
+                Tracker& tr = *trackers[k];
+                Frame f;
+                tr.begin(scan, m.T(0.1) * kImuLidar, f, rep[k]);
+                const bool unknown = tr.velocityUnknown(f, true, rep[k]);
+                sol[k] = tr.track(f, unknown, rep[k]);
+                if (k == 1) {
+                    for (const double dx : {0.3, -0.6, 1.0}) {
+                        fusion::FrameState start = sol[k].state;
+                        start.setPose(SE3d(Eigen::Translation3d(dx, 0.5 * dx, 0)) * start.T_map_imu());
+                        FrameReport r = rep[k];
+                        const FrameSolution v = tr.solveFrom(f, start, VerifyAs::Hypothesis, r);
+                        verified += r.rounds > 0 && !v.corr.empty();
+                    }
+                }
+                tr.end(f, sol[k].state, sol[k], rep[k], false, false);
+            }
+            const std::string at = (use_imu ? "IMU, frame " : "no IMU, frame ") + std::to_string(i);
+            EXPECT_EQ(rep[0].T_map_lidar.matrix(), rep[1].T_map_lidar.matrix()) << at;
+            EXPECT_EQ(rep[0].T_map_lidar_pred.matrix(), rep[1].T_map_lidar_pred.matrix()) << at;
+            EXPECT_EQ(rep[0].velocity, rep[1].velocity) << at;
+            EXPECT_EQ(rep[0].inlier_ratio, rep[1].inlier_ratio) << at;
+            EXPECT_EQ(rep[0].iterations, rep[1].iterations) << at;
+            EXPECT_EQ(rep[0].est_sigma, rep[1].est_sigma) << at;
+            EXPECT_EQ(rep[0].motion_from_scan, rep[1].motion_from_scan) << at;
+            EXPECT_EQ(sol[0].corr.size(), sol[1].corr.size()) << at;
+            EXPECT_LT(translationDistance(rep[0].T_map_lidar, m.T(t) * kImuLidar), use_imu ? 0.02 : 0.1) << at;
+            if (!use_imu && i == 2) {
+                EXPECT_TRUE(rep[0].motion_from_scan) << "the second frame measures its motion";
+            }
+        }
+        EXPECT_EQ(verified, 36);  // every verification solved something
+    }
+}
+
+// process(scan, &outputs): the localized-map and observability points of the frame that asked,
+// on the walls of the room (deskewed, at the solved pose), and asking for them changes nothing
+// of the localization.
+TEST(Localizer, OutputsComeWithTheFrameThatAskedForThem) {
+    const Motion m;
+    const auto map = boxMap();
+    Localizer with(boxParams(), map), without(boxParams(), map);
+    for (Localizer* l : {&with, &without}) {
+        l->setMinLoggingLevel(mrpt::system::LVL_ERROR);
+        l->setInitialPose(m.T(0.1) * kImuLidar);
+    }
+    double t_imu = 0;
+    FrameOutputs out;
+    out.map_voxel = 0.2;
+    out.observability = true;
+    for (int i = 1; i <= 8; ++i) {
+        const double t = 0.1 * i;
+        for (const ImuSample& smp : imuUpTo(m, t, t_imu)) with.addImu(smp), without.addImu(smp);
+        const Scan scan = sweep(m, kImuLidar, t);
+        const FrameReport a = with.process(scan, &out);
+        const FrameReport b = without.process(scan);
+        EXPECT_EQ(a.T_map_lidar.matrix(), b.T_map_lidar.matrix()) << "frame " << i;
+        EXPECT_EQ(a.health, b.health);
+        ASSERT_GT(out.map_points.size(), 100u) << "frame " << i;
+        double worst = 0;
+        for (const Vec3f& q : out.map_points) worst = std::max(worst, toWall(q));
+        EXPECT_LT(worst, 0.03) << "frame " << i << ": a map point off the walls";
+        ASSERT_EQ(out.obs_points.size(), out.obs_labels.size());
+        // the final association's kept correspondences (a weight-0 one is counted, not kept)
+        EXPECT_GT(out.obs_points.size(), 100u) << "frame " << i;
+        EXPECT_LE(out.obs_points.size(), a.corr_plane + a.corr_line + a.corr_point) << "frame " << i;
+        for (const Vec3f& q : out.obs_points) EXPECT_LT(toWall(q), 0.03);
+        for (const int8_t l : out.obs_labels) EXPECT_TRUE(l == risk::kNoLabel || (l >= 0 && l <= 2));
+    }
+}
+
+// The one place an initial pose is resolved: within the map's bounds it is taken; outside, an
+// error naming it, or the global search with out_of_map = global (when there is a search); a
+// TUM trajectory gives its pose at the first scan's time; the start check's seeds cover the
+// given pose's uncertainty.
+TEST(StartPose, InitialPoseResolvedInOnePlace) {
+    const auto map = boxMap();  // x -6..6, y -4..4, z 0..3
+    RelocalizationParams rp;
+    StartPose s(rp, 10.0);
+    EXPECT_EQ(s.give(makePoseRPY(15, 0, 1, 0, 0, 0), "--initial-pose", *map, true), StartPose::Decision::Take);
+    ASSERT_TRUE(s.given().has_value());
+    EXPECT_NEAR(s.firstPose().translation().x(), 15, 1e-12);
+    try {
+        s.give(makePoseRPY(17, 0, 1, 0, 0, 0), "--initial-pose", *map, true);
+        ADD_FAILURE() << "no error 1 m beyond the map's bounds + max_range";
+    } catch (const ConfigError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("--initial-pose"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("outside the prior map"), std::string::npos) << msg;
+        EXPECT_NE(msg.find("out_of_map"), std::string::npos) << msg;
+    }
+    SE3d nan = SE3d::Identity();
+    nan.translation().x() = std::nan("");
+    EXPECT_THROW(s.give(nan, "pose", *map, true), ConfigError);
+    rp.out_of_map = "global";
+    EXPECT_EQ(s.give(makePoseRPY(1e300, 0, 0, 0, 0, 0), "p", *map, true), StartPose::Decision::Search);
+    EXPECT_FALSE(s.given().has_value());
+    EXPECT_THROW(s.give(makePoseRPY(1e300, 0, 0, 0, 0, 0), "p", *map, false), ConfigError);
+
+    Trajectory traj = {{10.0, makePoseRPY(0, 0, 1, 0, 0, 0), {}}, {11.0, makePoseRPY(2, 0, 1, 0, 0, 0), {}}};
+    bool covered = false;
+    s.giveTrajectory(traj, "gt.txt");
+    ASSERT_EQ(s.atFirstScan(10.25, *map, true, covered), StartPose::Decision::Take);
+    EXPECT_TRUE(covered);
+    EXPECT_NEAR(s.firstPose().translation().x(), 0.5, 1e-9);
+    EXPECT_FALSE(s.atFirstScan(10.25, *map, true, covered).has_value()) << "resolved once";
+    s.giveTrajectory(traj, "gt.txt");
+    ASSERT_EQ(s.atFirstScan(50.0, *map, true, covered), StartPose::Decision::Take);
+    EXPECT_FALSE(covered);
+    EXPECT_NEAR(s.firstPose().translation().x(), 0.0, 1e-12) << "not covered: its first pose";
+    EXPECT_THROW(s.giveTrajectory({}, "empty.txt"), ConfigError);
+
+    // Seeds: the given yaw turned either way, and a ring of six at 2/3 start_xyz at three yaws.
+    const SE3d T0 = makePoseRPY(1, 2, 1, 0, 0, 0.4);
+    const auto seeds = StartPose::seeds(T0, rp);
+    EXPECT_EQ(seeds.size(), 20u);
+    for (const SE3d& T : seeds) {
+        EXPECT_LE(translationDistance(T, T0), rp.start_xyz * 2 / 3 + 1e-9);
+        EXPECT_LE(rotationAngle(T, T0), rp.start_deg * 2 / 3 * kDeg + 1e-9);
+        EXPECT_GT(translationDistance(T, T0) + rotationAngle(T, T0), 0.01) << "a seed is the given pose";
+    }
+    rp.start_ring_yaws = 1;
+    EXPECT_EQ(StartPose::seeds(T0, rp).size(), 8u);
+    rp.start_xyz = rp.start_deg = 0;
+    EXPECT_TRUE(StartPose::seeds(T0, rp).empty());
+}
