@@ -3,10 +3,14 @@
 one line per method, as an SVG (log-scale y), plus the same numbers as a Markdown table on stdout.
   sweep_plot.py RESULTS_JSON METRIC XLABEL OUT_SVG SEQ=X [SEQ=X ...]
 METRIC: ate (ATE RMSE [m]) or outliers (map outliers [%]). SEQ=X maps a sequence of the suite to
-its value of the swept variable, e.g. len50=50 len100=100.
-A run that failed or has no value is left out of its line (and shown as "–" in the table)."""
+its value of the swept variable, e.g. len50=50 len100=100. A sequence run over several seeds
+(`seeds = 1 2 3`: sequences NAME_s1, NAME_s2, ...) is one point: the mean over its seeds, with
+the seeds' min-max in the table.
+A run that failed or has no value is left out of its line (and shown as "–" in the table; a
+seed mean over fewer seeds than the others says how many, e.g. "n=2")."""
 import json
 import math
+import re
 import sys
 
 results, metric, xlabel, out_svg = sys.argv[1:5]
@@ -28,14 +32,21 @@ def value(run):
     return v if isinstance(v, (int, float)) and math.isfinite(v) else None
 
 
-methods, series = [], {}
+methods, per_seed = [], {}
 for r in runs:
-    if r["sequence"] not in xs:
+    seq = r["sequence"]
+    if seq not in xs:
+        seq = re.sub(r"_s[0-9]+$", "", seq)
+    if seq not in xs:
         continue
-    if r["method"] not in series:
+    if r["method"] not in per_seed:
         methods.append(r["method"])
-        series[r["method"]] = {}
-    series[r["method"]][xs[r["sequence"]]] = value(r)
+        per_seed[r["method"]] = {}
+    per_seed[r["method"]].setdefault(xs[seq], []).append(value(r))
+# One point per sequence: the mean over its seeds (None when no seed has a value).
+series = {m: {x: (sum(v for v in vs if v is not None) / len([v for v in vs if v is not None])
+                  if any(v is not None for v in vs) else None)
+              for x, vs in per_x.items()} for m, per_x in per_seed.items()}
 xvals = sorted(set(xs.values()))
 label = "ATE RMSE [m]" if metric == "ate" else "map outliers [%]"
 
@@ -45,7 +56,14 @@ for m in methods:
     cells = []
     for x in xvals:
         v = series[m].get(x)
-        cells.append("–" if v is None else ("%.3f" % v if metric == "ate" else "%.2f" % v))
+        fmt = "%.3f" if metric == "ate" else "%.2f"
+        vs = [u for u in per_seed[m].get(x, []) if u is not None]
+        cell = "–" if v is None else fmt % v
+        if len(vs) > 1:
+            cell += " (" + fmt % min(vs) + "–" + fmt % max(vs) + ")"
+        if v is not None and len(vs) < len(per_seed[m].get(x, [])):
+            cell += " n=%d" % len(vs)
+        cells.append(cell)
     print("| " + m + " | " + " | ".join(cells) + " |")
 
 W, H, L, R, T, B = 640, 400, 70, 150, 30, 50
