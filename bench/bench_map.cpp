@@ -124,7 +124,9 @@ void BM_MapScale(benchmark::State& state) {
         const map::PriorMap m(cloud, p);
         if (!voxel) m.nearest(Vec3f::Zero());  // builds the kd-tree
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        localization::AssociationParams ap;
+        localization::AssociationParams ap;  // the thresholds timed before the defaults became the run's
+        ap.plane_max_thickness = 0.1;
+        ap.point_weight = 0.1;
         ap.voxel = voxel;
         std::vector<Correspondence> corr;
         localization::AssociationStats st;
@@ -169,7 +171,9 @@ void BM_TiledCity10M(benchmark::State& state) {
     const std::vector<Vec3d> feats = hallFeatures(mid);
     map::MapParams p;
     p.voxel_size = 0;
-    const localization::AssociationParams ap;
+    localization::AssociationParams ap;  // the thresholds timed before the defaults became the run's
+    ap.plane_max_thickness = 0.1;
+    ap.point_weight = 0.1;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const io::MapTileIndex index = io::writeMapTiles(city, 50.0, dir.string());

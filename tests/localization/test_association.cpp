@@ -122,6 +122,22 @@ TEST(Association, VoxelNearestAboveIsReadAndChecked) {
     EXPECT_DOUBLE_EQ(LocalizationParams{}.voxel_nearest_above, 0.0);  // off by default
 }
 
+// AssociationParams' defaults are the run's association (the default [localization] and
+// [features]), so that a caller that builds one by hand associates as a run does.
+TEST(Association, DefaultsAreTheRunsAssociation) {
+    const AssociationParams d;
+    const AssociationParams run = trackingAssociation(LocalizationParams{}, features::FeaturesParams{});
+    EXPECT_EQ(d.voxel, run.voxel);
+    EXPECT_EQ(d.level, run.level);
+    EXPECT_EQ(d.nearest_above_thickness, run.nearest_above_thickness);
+    EXPECT_EQ(d.max_dist, run.max_dist);
+    EXPECT_EQ(d.plane_max_thickness, run.plane_max_thickness);
+    EXPECT_EQ(d.line_min_linearity, run.line_min_linearity);
+    EXPECT_EQ(d.max_fit_residual, run.max_fit_residual);
+    EXPECT_EQ(d.point_weight, run.point_weight);
+    EXPECT_EQ(d.line_knn, run.line_knn);
+}
+
 TEST(RunOutputs, CsvLineMatchesHeader) {
     FrameReport r;
     r.t = 12.5;

@@ -7,8 +7,6 @@
 #include <superloc/reloc/global_search.h>
 #include <superloc_testing/testing.h>
 
-#include <fstream>
-#include <sstream>
 
 #include "synthetic_scenes.h"
 
@@ -26,6 +24,9 @@ namespace {
 // point-to-plane refinement is rejected by its guard here and the leaf pose is what comes back;
 // on the real data the refinement brings it to a few cm (test_global_search_real.cpp).
 constexpr double kTolM = 0.3, kTolDeg = 2.0;
+/// A runner-up this close to the best makes a search ambiguous: the default of the Localizer's
+/// [relocalization] ambiguity_ratio, which decides what its lost-frame search verifies.
+constexpr double kAmbiguous = 0.9;
 
 map::PriorMap makeMap(const std::vector<Vec3f>& pts) {
     PointCloud c;
@@ -57,25 +58,6 @@ TEST(GlobalSearchParams, SaveLoadValidate) {
     EXPECT_THROW(loadParams<GlobalSearchParams>(typo, "global_search", "t.ini"), ConfigError);
 }
 
-TEST(GlobalSearchParams, LocalizeIniDocumentsEveryKeyWithItsDefault) {
-    std::ifstream f(superloc::testing::sourcePath("ini/localize.ini"));
-    std::stringstream s;
-    s << f.rdbuf();
-    mrpt::config::CConfigFileMemory cfg(s.str());
-    std::vector<std::string> keys;
-    cfg.getAllKeys("global_search", keys);
-    mrpt::config::CConfigFileMemory defaults;
-    GlobalSearchParams{}.saveToConfigFile(defaults, "global_search");
-    std::vector<std::string> want;
-    defaults.getAllKeys("global_search", want);
-    EXPECT_EQ(keys.size(), want.size()) << "ini/localize.ini [global_search] must list every key";
-    // Every key there parses, and each value is the default.
-    const auto p = loadParams<GlobalSearchParams>(cfg, "global_search", "ini/localize.ini");
-    mrpt::config::CConfigFileMemory back;
-    p.saveToConfigFile(back, "global_search");
-    EXPECT_EQ(back.getContent(), defaults.getContent());
-}
-
 TEST(GlobalSearch, RecoversPoseInLHall) {
     const auto pts = lHall();
     const auto m = makeMap(pts);
@@ -92,7 +74,7 @@ TEST(GlobalSearch, RecoversPoseInLHall) {
         EXPECT_EQ(r.gravity, GravitySource::Given);
         EXPECT_NEAR(r.sensor_height, T.translation().z(), 0.05);
         EXPECT_GT(best.score, 0.8);
-        EXPECT_FALSE(r.ambiguous) << "runner-up ratio " << r.runner_up_ratio;
+        EXPECT_LT(r.runner_up_ratio, kAmbiguous);
         // The search leaf itself is within a cell and a yaw step.
         EXPECT_LT((best.T_map_lidar_search.translation() - T.translation()).head<2>().norm(), 0.3);
     }
@@ -133,7 +115,7 @@ TEST(GlobalSearch, TwoIdenticalHallsAreAmbiguousAndARegionPicksOne) {
     const auto scan = scanFrom(pts, T);
     const auto r = gs.search(scan, Mat3d::Identity());
     ASSERT_GE(r.hypotheses.size(), 2u);
-    EXPECT_TRUE(r.ambiguous) << r.runner_up_ratio;
+    EXPECT_GE(r.runner_up_ratio, kAmbiguous);
     EXPECT_GT(r.runner_up_ratio, 0.95);
     // The two halls' copies of the pose are the first two.
     const double dx = std::abs(r.hypotheses[0].T_map_lidar.translation().x() -
@@ -153,7 +135,7 @@ TEST(GlobalSearch, TwoIdenticalHallsAreAmbiguousAndARegionPicksOne) {
         EXPECT_LT(std::abs(yawOf(h.T_map_lidar_search.linear()) - reg.yaw), reg.yaw_half_width + 1e-6);
     }
     EXPECT_LT(rr.yaws, r.yaws / 4);
-    EXPECT_FALSE(rr.ambiguous) << rr.runner_up_ratio;
+    EXPECT_LT(rr.runner_up_ratio, kAmbiguous);
 }
 
 TEST(GlobalSearch, FeaturelessCorridorGivesNearEqualScoresAlongItsAxis) {
@@ -164,7 +146,7 @@ TEST(GlobalSearch, FeaturelessCorridorGivesNearEqualScoresAlongItsAxis) {
     const auto scan = scanFrom(pts, T);
     const auto r = gs.search(scan, Mat3d::Identity());
     ASSERT_GE(r.hypotheses.size(), 3u) << r.failure;
-    EXPECT_TRUE(r.ambiguous) << r.runner_up_ratio;
+    EXPECT_GE(r.runner_up_ratio, kAmbiguous);
     double xmin = 1e9, xmax = -1e9;
     for (const auto& h : r.hypotheses) {
         EXPECT_GT(h.ratio_to_best, 0.95);

@@ -16,6 +16,10 @@ using namespace superloc::reloc;
 
 namespace {
 
+/// A runner-up this close to the best flags the search ambiguous (the default of the Localizer's
+/// [relocalization] ambiguity_ratio).
+constexpr double kAmbiguous = 0.9;
+
 
 struct Tally {
     int scans = 0, top1 = 0, in_top_k = 0, wrong_flagged = 0, wrong_confident = 0;
@@ -63,8 +67,8 @@ Tally runSplit(const std::string& data, const std::string& map_scans, const std:
         for (const auto& h : r.hypotheses) any |= ok(h);
         t.top1 += top1;
         t.in_top_k += any;
-        if (!top1) (r.ambiguous || r.hypotheses.empty() ? t.wrong_flagged : t.wrong_confident)++;
-        if (!r.hypotheses.empty() && !r.ambiguous &&
+        if (!top1) ((r.runner_up_ratio >= kAmbiguous) || r.hypotheses.empty() ? t.wrong_flagged : t.wrong_confident)++;
+        if (!r.hypotheses.empty() && !(r.runner_up_ratio >= kAmbiguous) &&
             (translationDistance(r.hypotheses[0].T_map_lidar, T_gt[i]) > 1.0 ||
              rotationAngle(r.hypotheses[0].T_map_lidar, T_gt[i]) > 5 * kDeg))
             ++t.far_confident;
@@ -75,7 +79,7 @@ Tally runSplit(const std::string& data, const std::string& map_scans, const std:
                     top1 ? "ok  " : (any ? "topK" : "FAIL"), e_t, e_r, e_leaf,
                     r.hypotheses.empty() ? 0 : int(r.hypotheses[0].refined),
                     r.hypotheses.empty() ? 0.0 : r.hypotheses[0].score, r.runner_up_ratio, toString(r.gravity),
-                    r.sensor_height, r.points_scored, 1e3 * r.seconds, r.ambiguous ? " ambiguous" : "");
+                    r.sensor_height, r.points_scored, 1e3 * r.seconds, (r.runner_up_ratio >= kAmbiguous) ? " ambiguous" : "");
     }
     std::printf("%s map=%s: top-1 %d/%d, in top-K %d/%d, wrong+flagged %d, wrong+confident %d, mean %.0f ms, max %.0f ms\n",
                 data.c_str(), map_scans.c_str(), t.top1, t.scans, t.in_top_k, t.scans, t.wrong_flagged,

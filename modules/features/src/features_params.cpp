@@ -21,7 +21,7 @@ void FeaturesParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] drop points farther than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(deskew, "undo the sweep motion (per-point time needed)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_imu_poses, "with IMU: deskew along its integrated poses");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_without_imu, "deskew with constant velocity when no IMU");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(deskew_without_imu, "no IMU: also deskew with the constant-velocity prediction (odom_alt's motion deskews anyway)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_size, "[m] one candidate point per voxel");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_features, "max features per scan, spread over candidates");
     MRPT_SAVE_CONFIG_VAR_COMMENT(plane_max_thickness, "[-] map neighbourhood l3/l2 below: plane");

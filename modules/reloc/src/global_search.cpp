@@ -327,7 +327,6 @@ GlobalSearchResult GlobalSearch::search(const std::vector<Vec3f>& points_lidar, 
     for (auto& hp : res.hypotheses)
         hp.ratio_to_best = res.hypotheses[0].score > 0 ? hp.score / res.hypotheses[0].score : 0.0;
     res.runner_up_ratio = res.hypotheses.size() > 1 ? res.hypotheses[1].ratio_to_best : 0.0;
-    res.ambiguous = res.runner_up_ratio >= p.ambiguity_ratio;
     res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     MRPT_LOG_DEBUG_FMT("global search: %zu points, %zu yaws, %zu nodes, %zu leaves, best %.3f, runner-up %.2f, %.3f s",
                        res.points_scored, res.yaws, res.nodes, res.leaves, res.hypotheses[0].score,

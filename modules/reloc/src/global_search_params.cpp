@@ -50,7 +50,6 @@ void GlobalSearchParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(nms_distance, double, c, s);
     MRPT_LOAD_CONFIG_VAR(nms_yaw_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(min_score, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(ambiguity_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(refine, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(refine_iterations, int, c, s);
     MRPT_LOAD_CONFIG_VAR(refine_inlier_dist, double, c, s);
@@ -70,8 +69,8 @@ void GlobalSearchParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(ground_cell, "[m] column edge of the map's ground-height grid");
     MRPT_SAVE_CONFIG_VAR_COMMENT(position_margin, "[m] sensor positions searched: within this of observed ground");
     MRPT_SAVE_CONFIG_VAR_COMMENT(yaw_step_deg, "[deg] yaw step of the leaves");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "[m] scan points closer than this are dropped");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] scan points farther than this are dropped");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(min_range, "[m] the search's own range filter (not [features]'s): closer scan points are dropped");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_range, "[m] ...and farther ones (the search scores the near scan only)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(scan_voxel, "[m] scan downsampling before the search");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_points, "scored scan points at most (taken evenly)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_points, "fewer scorable scan points: empty result");
@@ -80,7 +79,6 @@ void GlobalSearchParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(nms_distance, "[m] hypotheses closer than this and ...");
     MRPT_SAVE_CONFIG_VAR_COMMENT(nms_yaw_deg, "[deg] ... closer in yaw than this are one");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_score, "[-] hypotheses scoring less (fraction of scan points) are dropped");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(ambiguity_ratio, "[-] runner-up score / best score above this: ambiguous");
     MRPT_SAVE_CONFIG_VAR_COMMENT(refine, "[bool] refine each hypothesis in 6-DoF (point-to-plane, voxel map)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(refine_iterations, "Gauss-Newton iterations per voxel-map level");
     MRPT_SAVE_CONFIG_VAR_COMMENT(refine_inlier_dist, "[m] point-to-plane residual of a refinement inlier");
@@ -113,8 +111,6 @@ void GlobalSearchParams::validate() const {
     need(std::isfinite(nms_distance) && nms_distance >= 0, "nms_distance must be >= 0 m");
     need(std::isfinite(nms_yaw_deg) && nms_yaw_deg >= 0, "nms_yaw_deg must be >= 0");
     need(std::isfinite(min_score) && min_score >= 0 && min_score <= 1, "min_score must be in [0, 1]");
-    need(std::isfinite(ambiguity_ratio) && ambiguity_ratio > 0 && ambiguity_ratio <= 1,
-         "ambiguity_ratio must be in (0, 1]");
     need(refine_iterations >= 1 && refine_iterations <= 100, "refine_iterations must be in [1, 100]");
     need(std::isfinite(refine_inlier_dist) && refine_inlier_dist > 0, "refine_inlier_dist must be > 0 m");
     need(std::isfinite(ground_max_tilt_deg) && ground_max_tilt_deg > 0 && ground_max_tilt_deg < 90,

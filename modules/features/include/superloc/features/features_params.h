@@ -14,8 +14,10 @@ struct FeaturesParams : public mrpt::config::CLoadableOptions {
     /// with IMU: deskew along the IMU's integrated trajectory over the sweep (false: one
     /// constant twist, the interval's mean rate and the predicted end velocity)
     bool deskew_imu_poses = true;
-    /// also deskew without IMU, with the constant-velocity twist of the last two estimates
-    /// (off: on the handheld office sequence it doubled the ATE, 0.14 vs 0.06 m)
+    /// without IMU, also deskew a frame whose prediction is the constant-velocity twist of the
+    /// last two estimates, and estimate the sweep's velocity of a frame of unknown velocity; a
+    /// frame predicted from odom_alt's motion is deskewed with it whatever this says (off: on the
+    /// handheld office sequence it doubled the ATE, 0.14 vs 0.06 m)
     bool deskew_without_imu = false;
     double voxel_size = 0.5;    ///< [m] one candidate point per voxel of this size
     int max_features = 2000;    ///< cap on features per scan, taken evenly over the candidates

@@ -16,6 +16,8 @@
 
 namespace superloc::localization {
 
+/// The defaults are the run's: trackingAssociation() of the default [localization] and
+/// [features] (doc/parameters.md).
 struct AssociationParams {
     bool voxel = false;                ///< voxel map association instead of nearest map point
     int level = 0;                     ///< voxel map level (0 = finest), voxel association only
@@ -23,12 +25,14 @@ struct AssociationParams {
     /// associated as `nearest` does (kd-tree); 0: never
     double nearest_above_thickness = 0;
     double max_dist = 1.0;             ///< [m] plane / line / centroid farther: no correspondence
-    double plane_max_thickness = 0.1;  ///< see features::classifyShape
+    double plane_max_thickness = 0.5;  ///< see features::classifyShape ([features] plane_max_thickness)
     double line_min_linearity = 0.7;
     /// [m] plane fit RMS giving weight 0 at the finest level; a level of voxel edge s uses
     /// max(max_fit_residual, 0.1 s) (coarse voxels hold rougher patches)
     double max_fit_residual = 0.1;
-    double point_weight = 0.1;         ///< weight of a point-to-point (centroid) correspondence
+    /// weight of a point-to-point (centroid) correspondence; 0: such a correspondence is counted
+    /// (AssociationStats::point), not kept ([localization] point_weight)
+    double point_weight = 0.0;
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
 };
 

@@ -48,7 +48,6 @@ struct GlobalSearchParams : public mrpt::config::CLoadableOptions {
     double nms_distance = 2.0;     ///< [m] hypotheses closer than this ...
     double nms_yaw_deg = 20.0;     ///< [deg] ... and closer in yaw than this are one
     double min_score = 0.15;       ///< [-] hypotheses scoring less (fraction of points) are dropped
-    double ambiguity_ratio = 0.9;  ///< [-] runner-up score / best score above this: ambiguous
     // Refinement of each hypothesis (point-to-plane in the map's registration voxel map)
     bool refine = true;            ///< refine each hypothesis in 6-DoF
     int refine_iterations = 10;    ///< Gauss-Newton iterations per voxel-map level
@@ -104,9 +103,10 @@ const char* toString(GravitySource s);
 struct GlobalSearchResult {
     std::vector<PoseHypothesis> hypotheses;  ///< best first; empty when nothing scored min_score
     /// Runner-up's score over the best's (0 with fewer than 2 hypotheses). Near 1: the scan fits
-    /// two distinct places equally well (aliasing, a corridor): do not commit to the first.
+    /// two distinct places equally well (aliasing, a corridor): do not commit to the first. The
+    /// Localizer's lost-frame search verifies every hypothesis within [relocalization]
+    /// ambiguity_ratio of the best (doc/relocalization.md).
     double runner_up_ratio = 0;
-    bool ambiguous = false;  ///< runner_up_ratio >= ambiguity_ratio
     GravitySource gravity = GravitySource::AssumedLevel;
     Mat3d R_level_lidar = Mat3d::Identity();  ///< roll/pitch used (zero yaw)
     double sensor_height = 0;  ///< [m] lidar above its ground plane used for the bands and z
