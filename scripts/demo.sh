@@ -60,4 +60,4 @@ for imu in true false; do
   echo "featureless corridor, IMU $imu, ATE RMSE [m]: icp $(ate "$OUT/corridor-icp-imu-$imu/eval.json")," \
        "passive $(ate "$OUT/corridor-passive-imu-$imu/eval.json"), superloc $(ate "$OUT/corridor-superloc-imu-$imu/eval.json")"
 done
-echo "(frames.csv in $OUT/corridor-superloc-imu-false: gamma_x < 0.2 flags x, prior_w_x is the odom_alt weight it got)"
+echo "(frames.csv in $OUT/corridor-superloc-imu-false: degenerate = x where the estimate is weak along x (est_sigma_x above 5 cm), prior_w_x is the odom_alt weight it got; gamma_x is the paper's scan-only risk)"
