@@ -63,15 +63,19 @@ const char* kLocalize =
     "exit $RC\n";
 
 // For the --jobs test, before kLocalize: every run marks its start in its sequence's folder;
-// when TOOLS/rendezvous exists, `good` waits (up to 20 s) for `lift` of its sequence to have
-// started and writes whether it did (`met`) into good.rendezvous: runs at the same time meet.
+// when TOOLS/rendezvous exists, `good` waits (up to 20 s) for another run to be going at the
+// same time — `lift` of its sequence, or the other sequence's `good` (which is itself waiting)
+// — and writes whether it met one (`met`) into good.rendezvous. Waiting for `lift` alone could
+// deadlock when both sequences' data are ready together and the two `good` runs take both
+// jobs (seen under the sanitizers, where the simulations are slower).
 // `hang` never finishes (the suite's timeout kills it).
 const char* kRendezvous =
     "[ \"$METHOD\" = hang ] && exec sleep 60\n"
     "mkdir -p \"$OUT\"; touch \"$OUT/../$METHOD.started\"\n"
     "if [ \"$METHOD\" = good ] && [ -e \"$(dirname \"$0\")/rendezvous\" ]; then\n"
-    "  n=0; while [ ! -e \"$OUT/../lift.started\" ] && [ $n -lt 200 ]; do sleep 0.1; n=$((n+1)); done\n"
-    "  if [ -e \"$OUT/../lift.started\" ]; then echo met; else echo alone; fi > \"$OUT/../good.rendezvous\"\n"
+    "  met() { [ -e \"$OUT/../lift.started\" ] && return 0; set -- \"$OUT\"/../../*/good.started; [ $# -ge 2 ]; }\n"
+    "  n=0; while ! met && [ $n -lt 200 ]; do sleep 0.1; n=$((n+1)); done\n"
+    "  if met; then echo met; else echo alone; fi > \"$OUT/../good.rendezvous\"\n"
     "fi\n";
 
 /// results.md without what may differ between --jobs 1 and --jobs N: the first line (command,
@@ -218,8 +222,8 @@ TEST(BenchApp, JobsGiveTheResultsOfOneJob) {
     one.initialize({d + "/suite.ini", "--out", d + "/one", "--tools", tools, "--jobs", "1"});
     std::ostringstream log1, log2;
     EXPECT_EQ(one.run(log1), 0) << log1.str();
-    // With two jobs, a sequence's `good` waits for its `lift` to start: they run together, so
-    // `lift` finishes first, and the results must still come in the suite's order.
+    // With two jobs, a sequence's `good` waits for another run to start beside it: they run
+    // together, so the other finishes first, and the results must still come in the suite's order.
     std::ofstream(tools + "/rendezvous") << "1\n";
     two.initialize({d + "/suite.ini", "--out", d + "/two", "--tools", tools, "--jobs", "2"});
     EXPECT_EQ(two.run(log2), 0) << log2.str();
