@@ -21,6 +21,21 @@ Mat3 noiseScale(const Mat3& block, double floor_share) {
     }
     return es.eigenvectors() * f.asDiagonal() * es.eigenvectors().transpose();
 }
+/// The covariance of an information matrix with its unheld directions at kMaxSigma (a
+/// pseudo-inverse that stays finite), with the eigen-decomposition it came from.
+struct CappedCovariance {
+    Mat6d U, C = Mat6d::Zero();
+    Vec6d l;  ///< the information's eigenvalues, at least 1 / kMaxSigma^2
+    explicit CappedCovariance(const Mat6d& info) {
+        const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (info + info.transpose()));
+        const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
+        U = es.eigenvectors();
+        for (int i = 0; i < 6; ++i) {
+            l[i] = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
+            C.noalias() += U.col(i) * U.col(i).transpose() / l[i];
+        }
+    }
+};
 }  // namespace
 
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
@@ -43,25 +58,18 @@ bool Weakness::any() const {
 
 Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
     Weakness out;
-    // Covariance with the unheld directions at kMaxSigma (a pseudo-inverse that stays finite).
-    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (info + info.transpose()));
-    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
-    Mat6d C = Mat6d::Zero();
-    for (int i = 0; i < 6; ++i) {
-        const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
-        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() / l;
-    }
+    const CappedCovariance cc(info);
     // The std per axis over the eigen-directions that make at least 5 % of it: the marginal,
     // without the unheld corridor axis's thousandth along z turning 1 km into a metre of z.
     for (int k = 0; k < 6; ++k) {
         double var = 0;
         for (int i = 0; i < 6; ++i) {
-            const double u2 = es.eigenvectors()(k, i) * es.eigenvectors()(k, i);
-            const double l = std::isfinite(es.eigenvalues()[i]) ? std::max(min_info, es.eigenvalues()[i]) : min_info;
-            if (u2 >= 0.05) var += u2 / l;
+            const double u2 = cc.U(k, i) * cc.U(k, i);
+            if (u2 >= 0.05) var += u2 / cc.l[i];
         }
         out.sigma[k] = std::min(kMaxSigma, std::sqrt(var));
     }
+    const Mat6d& C = cc.C;
     // Per group: the directions of the marginal covariance and their std.
     for (int g = 0; g < 2; ++g) {
         const Mat3 Cg = C.block<3, 3>(3 * g, 3 * g);
@@ -80,32 +88,28 @@ Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma) {
     return out;
 }
 
+
 void EstimateInformation::predict(const FrameProblemInputs& in, const FusionParams& params) {
     FrameProblemInputs p = in;
     p.prev_prior = prior_ ? &*prior_ : nullptr;
     carried_ = imuWindowStateInformation(p, params);
+    // The carried translation covariance's weak directions, once per frame (scanPart uses them
+    // at the risk step and again at commit).
+    weak_dirs_.clear();
+    const auto I = carried_ ? poseInformation(*carried_) : std::nullopt;
+    if (!I) return;
+    const Mat3 Ct = CappedCovariance(*I).C.topLeftCorner<3, 3>();
+    const Eigen::SelfAdjointEigenSolver<Mat3> ec(0.5 * (Ct + Ct.transpose()));
+    for (int i = 0; i < 3; ++i)
+        if (ec.eigenvalues()[i] > weak_xyz_ * weak_xyz_) weak_dirs_.push_back(ec.eigenvectors().col(i));
 }
 
 Mat6d EstimateInformation::scanPart(const Mat6d& H) const {
-    if (!carried_) return H;
-    const auto I = poseInformation(*carried_);
     const double tr = H.topLeftCorner<3, 3>().trace();
-    if (!I || !(tr > 0)) return H;
-    // The carried translation covariance's weak directions (pseudo-inverse at kMaxSigma).
-    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (*I + I->transpose()));
-    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
-    Mat6d C = Mat6d::Zero();
-    for (int i = 0; i < 6; ++i)
-        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() /
-                       std::max(min_info, std::isfinite(es.eigenvalues()[i]) ? es.eigenvalues()[i] : min_info);
-    const Eigen::SelfAdjointEigenSolver<Mat3> ec(0.5 * (C.topLeftCorner<3, 3>() + C.topLeftCorner<3, 3>().transpose()));
+    if (weak_dirs_.empty() || !(tr > 0)) return H;
     Mat6d P = Mat6d::Identity();
-    for (int i = 0; i < 3; ++i) {
-        const Eigen::Vector3d u = ec.eigenvectors().col(i);
-        if (!(ec.eigenvalues()[i] > weak_xyz_ * weak_xyz_)) continue;
-        if (u.dot(H.topLeftCorner<3, 3>() * u) >= floor_share_ * tr) continue;  // real information
-        P.topLeftCorner<3, 3>() -= u * u.transpose();
-    }
+    for (const Eigen::Vector3d& u : weak_dirs_)
+        if (u.dot(H.topLeftCorner<3, 3>() * u) < floor_share_ * tr) P.topLeftCorner<3, 3>() -= u * u.transpose();
     const Mat6d out = P * H * P;
     return 0.5 * (out + out.transpose());
 }
@@ -129,6 +133,7 @@ void EstimateInformation::commit(const FrameState& cur, const Mat6d& H_scan) {
     M.topLeftCorner<6, 6>() += H;
     M = 0.5 * (M + M.transpose());
     carried_.reset();
+    weak_dirs_.clear();
     const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
     if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) {
         prior_.reset();
@@ -144,6 +149,7 @@ void EstimateInformation::commit(const FrameState& cur, const Mat6d& H_scan) {
 void EstimateInformation::reset() {
     prior_.reset();
     carried_.reset();
+    weak_dirs_.clear();
 }
 
 }  // namespace superloc::fusion

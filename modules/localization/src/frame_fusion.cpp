@@ -60,9 +60,9 @@ std::optional<fusion::RelativePosePrior> FrameFusion::prior(const std::vector<Co
                                                             FrameSolution& sol, FrameReport& rep) {
     frame_.corr = &corr;
     // Where is the estimate weak without odom_alt? (doc/method.md §2)
-    const Mat6d H = fusion::scanInformation(corr, T_map_imu, fusion_.scan_sigma);
+    frame_.scan_H = fusion::scanInformation(corr, T_map_imu, fusion_.scan_sigma);
     const double n = risk_.normal_noise_deg * kDeg;
-    sol.scan_info = fusion::informationAboveNoise(H, std::pow(std::sin(n), 2));
+    sol.scan_info = fusion::informationAboveNoise(frame_.scan_H, std::pow(std::sin(n), 2));
     Vec6d weak;
     weak << Vec3d::Constant(risk_.weak_sigma_xyz), Vec3d::Constant(risk_.weak_sigma_deg * kDeg);
     frame_.scan = fusion::weakness(sol.scan_info, weak);

@@ -66,8 +66,7 @@ std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFram
     if (!f.odom_delta || !f.corr) return std::nullopt;
     // doc/method.md §2 / paper §III-C: W = diag(max(0, 1 - gamma_k)) s_k, s_k = the mean scan
     // information per axis of the group, at the predicted pose (doc/method.md §2).
-    const Mat6d H = fusion::scanInformation(*f.corr, f.T_map_imu, scan_sigma_);
-    Vec6d s = p_.prior_scale * fusion::priorScale(H);
+    Vec6d s = p_.prior_scale * fusion::priorScale(f.scan_H);
     // Never more than odom_alt itself claims over this frame (when it reports a covariance).
     if (p_.prior_cap_by_odom_cov && f.odom_cov_prev && f.odom_cov_cur)
         s = fusion::capScale(s, fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_));
@@ -117,7 +116,7 @@ MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params, co
             break;
         }
         case Method::SuperLocPaper:
-            v.fusion = std::make_unique<OdomFusionPaper>(params.active, params.scan_sigma);
+            v.fusion = std::make_unique<OdomFusionPaper>(params.active);
             break;
         case Method::EigenRemap: v.fusion = std::make_unique<OdomFusionEigenRemap>(params.active); break;
     }

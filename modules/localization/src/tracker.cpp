@@ -106,8 +106,6 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
 void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,
                            FrameReport& rep) {
     // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve).
-    // (Issue 27: FusionFrame::window_info, the IMU window's predicted information on the
-    // current pose, belongs here, before the first round's prior().)
     FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
                        odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
     // What the estimate knows without odom_alt, carried from the last frame through the IMU

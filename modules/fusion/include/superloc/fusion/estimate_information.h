@@ -20,6 +20,7 @@
 
 #include <array>
 #include <optional>
+#include <vector>
 
 namespace superloc::fusion {
 
@@ -78,6 +79,9 @@ class EstimateInformation {
     double floor_share_, weak_xyz_;
     std::optional<StatePrior> prior_;  ///< on the last committed state
     std::optional<Mat15d> carried_;    ///< on the current state, before its scan
+    /// Translation directions (unit, body) along which carried_ leaves the pose's std above
+    /// weak_xyz_: set by predict().
+    std::vector<Eigen::Vector3d> weak_dirs_;
 };
 
 }  // namespace superloc::fusion

@@ -46,11 +46,9 @@ struct FusionFrame {
     /// Where the estimate without odom_alt (scan above its noise floor + IMU window,
     /// fusion::EstimateInformation) is weak before the solve, and where the scan alone is.
     fusion::Weakness est, scan;
-    /// The IMU window's predicted information on the current pose, from the previous state's
-    /// marginal prior and the IMU preintegration (issue 27). Not computed yet: its place is
-    /// Tracker::trackedSolve (tracker.cpp), once per tracked frame before the first round's
-    /// prior().
-    std::optional<Mat6d> window_info;
+    /// The scan's information at the predicted pose from `corr` (fusion::scanInformation, body
+    /// axes, before its noise floor): computed once per frame by FrameFusion for every policy.
+    Mat6d scan_H = Mat6d::Zero();
 };
 
 class OdomFusion {
@@ -117,13 +115,12 @@ class OdomFusionActive : public OdomFusion {
 /// W = diag(max(0, 1 - gamma)) s (paper §III-C; doc/method.md §2, the ablation).
 class OdomFusionPaper : public OdomFusion {
    public:
-    OdomFusionPaper(const fusion::ActiveFusionParams& p, double scan_sigma) : p_(p), scan_sigma_(scan_sigma) {}
+    explicit OdomFusionPaper(const fusion::ActiveFusionParams& p) : p_(p) {}
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
 
    private:
     fusion::ActiveFusionParams p_;
-    double scan_sigma_;
 };
 
 /// eigen_remap (Zhang, Kaess, Singh, ICRA 2016): each round's update is kept along the
