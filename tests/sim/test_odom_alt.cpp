@@ -115,8 +115,12 @@ TEST(OdomAlt, RawlogOdometryFollowsBodyMotion) {
         scene.trajectory.pose(od.front().t).inverse() * scene.trajectory.pose(od.back().t);
     const SE3d d_od = od.front().pose.inverse() * od.back().pose;
     ASSERT_GT(dist, 5.0);
+    // The fixed drift, three sigmas of the wandering per-metre errors, and the heading rate's
+    // three sigmas turning the path (half the distance as lever arm).
+    const auto& o = cfg.odom_alt;
+    const double per_m = o.drift_per_m + 3 * std::hypot(o.scale_sigma, o.lateral_sigma, o.vertical_sigma);
     EXPECT_LT((d_gt.translation() - d_od.translation()).norm(),
-              1.5 * cfg.odom_alt.drift_per_m * dist + 0.01);
+              per_m * dist + 1.5 * o.heading_sigma_deg * kDeg * dist * dist + 0.01);
     EXPECT_GT((d_gt.translation() - d_od.translation()).norm(), 0.0);  // it does drift
 }
 
@@ -216,5 +220,110 @@ TEST(OdomAlt, HeadingSlipTurnsYawPerMetreUnreported) {
     EXPECT_LT(std::hypot(e.x(), e.y()), 0.01 * std::abs(e.z()));
     OdomAltParams bad;
     bad.slip_deg_per_m = -0.1;
+    EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+// Wandering error: with every sigma 0 the odometry is the fixed-drift one, number for number (its
+// own stream); with wander_length = 0 each process is drawn once and held, so along a straight
+// path the scale error of every window is the one drawn; with a correlation length L the
+// processes are stationary with the INI's sigma and decorrelate over L (pooled over seeds), and
+// change_every_m draws them afresh at that distance. None of it is in the covariance.
+TEST(OdomAlt, WanderingErrorOffChangesNothing) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{30, 0, 0}, 1.0}, {{30, 20, 0}, 1.0}}, 10);
+    OdomAltParams wander;
+    wander.scale_sigma = 0;
+    wander.wander_length = 40;
+    wander.change_every_m = 5;
+    OdomAltSimulator a(OdomAltParams{}, 9), b(wander, 9);
+    for (double t = tr.startTime(); t < tr.endTime(); t += 0.05) {
+        const PoseStamped pa = a.step(t, tr.pose(t)), pb = b.step(t, tr.pose(t));
+        EXPECT_TRUE(pa.pose.isApprox(pb.pose, 1e-12));
+    }
+}
+
+TEST(OdomAlt, HeldScaleErrorIsTheDrawnOne) {
+    const SmoothTrajectory tr = makeTrajectory({{{0, 0, 0}, 1.0}, {{150, 0, 0}, 1.0}}, 80);
+    OdomAltParams p;
+    p.drift_per_m = 0;
+    p.drift_per_rad = 0;
+    p.trans_noise = 0;
+    p.rot_noise_deg = 0;
+    p.scale_sigma = 0.03;
+    for (uint64_t seed : {1, 2, 3}) {
+        OdomAltSimulator sim(p, seed);
+        SE3d g0, o0, g, o;
+        bool first = true;
+        for (double t = tr.startTime(); t <= tr.endTime(); t += 0.05) {
+            g = tr.pose(t);
+            o = sim.step(t, g).pose;
+            if (first) g0 = g, o0 = o, first = false;
+        }
+        const double s = sim.wander()[0];
+        EXPECT_NE(s, 0.0);
+        const SE3d dg = g0.inverse() * g, dd = o0.inverse() * o;
+        const double dist = dg.translation().norm();
+        ASSERT_GT(dist, 100.0);
+        EXPECT_NEAR(dd.translation().x() - dg.translation().x(), s * dist, 1e-3 * dist) << "seed " << seed;
+        EXPECT_NEAR(dd.translation().y() - dg.translation().y(), 0.0, 1e-3 * dist) << "seed " << seed;
+    }
+}
+
+TEST(OdomAlt, WanderingErrorIsStationaryAndDecorrelatesOverItsLength) {
+    // The process itself, stepped along a 2 km straight path in 0.1 m increments, 40 seeds.
+    OdomAltParams p;
+    p.scale_sigma = 0.02;
+    p.lateral_sigma = 0.01;
+    p.heading_sigma_deg = 0.1;
+    p.wander_length = 40;
+    double var = 0, lat = 0, cov40 = 0, cov200 = 0;
+    int n = 0, n40 = 0, n200 = 0;
+    for (uint64_t seed = 1; seed <= 40; ++seed) {
+        OdomAltSimulator sim(p, seed);
+        std::vector<double> s;
+        SE3d T = SE3d::Identity();
+        for (int i = 0; i <= 20000; ++i) {
+            T.translation().x() = 0.1 * i;
+            sim.step(0.05 * i, T);
+            s.push_back(sim.wander()[0]);
+            if (i % 100 == 0) {
+                var += s.back() * s.back();
+                lat += sim.wander()[1] * sim.wander()[1];
+                ++n;
+            }
+        }
+        for (size_t i = 0; i + 2000 < s.size(); i += 100) {
+            cov40 += s[i] * s[i + 400];  // 40 m apart
+            cov200 += s[i] * s[i + 2000];  // 200 m apart
+            ++n40;
+            ++n200;
+        }
+    }
+    const double sd = std::sqrt(var / n);
+    EXPECT_NEAR(sd, 0.02, 0.004);
+    EXPECT_NEAR(std::sqrt(lat / n), 0.01, 0.002);
+    // Correlation exp(-1) = 0.37 at one length, exp(-5) = 0.007 at five.
+    EXPECT_NEAR(cov40 / n40 / (sd * sd), std::exp(-1.0), 0.12);
+    EXPECT_NEAR(cov200 / n200 / (sd * sd), 0.0, 0.12);
+}
+
+TEST(OdomAlt, AbruptChangesDrawTheErrorAfreshEveryNMetres) {
+    OdomAltParams p;
+    p.scale_sigma = 0.02;
+    p.change_every_m = 10;  // held between changes (wander_length 0)
+    OdomAltSimulator sim(p, 5);
+    SE3d T = SE3d::Identity();
+    double last = 0;
+    int changes = 0;
+    for (int i = 0; i <= 1000; ++i) {  // 100 m in 0.1 m steps
+        T.translation().x() = 0.1 * i;
+        const PoseStamped o = sim.step(0.05 * i, T);
+        ASSERT_TRUE(o.cov.has_value());
+        EXPECT_LT(o.cov->diagonal().head<3>().maxCoeff(), std::pow(0.02 * 0.1 * i + 0.0005 * std::sqrt(i + 1.0) + 1e-4, 2) + 1e-8);
+        if (i > 0 && sim.wander()[0] != last) ++changes;
+        last = sim.wander()[0];
+    }
+    EXPECT_NEAR(changes, 10, 1);
+    OdomAltParams bad;
+    bad.wander_length = -1;
     EXPECT_THROW(bad.validate(), ConfigError);
 }

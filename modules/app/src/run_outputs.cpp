@@ -3,6 +3,8 @@
 #include <superloc/io/tum.h>
 #include <superloc/app/report_plots.h>
 #include <superloc/app/run_outputs.h>
+#include <superloc/core/se3.h>
+#include <superloc/fusion/pose_posterior.h>
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
@@ -29,7 +31,12 @@ std::string framesCsvHeader() {
            "bias_ax,bias_ay,bias_az,bias_gx,bias_gy,bias_gz,"
            "scan_info_x,scan_info_y,scan_info_z,scan_info_roll,scan_info_pitch,scan_info_yaw,"
            "scan_sigma_x,scan_sigma_y,scan_sigma_z,scan_sigma_roll,scan_sigma_pitch,scan_sigma_yaw,"
-           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw";
+           "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw,"
+           "weak_axes,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sigma_roll,sigma_pitch,sigma_yaw";
+}
+
+Mat6d reportedCovariance(const localization::FrameReport& r, const SE3d& T) {
+    return fusion::toReported(r.cov, r.T_map_imu, r.T_map_imu.inverse() * T);
 }
 
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
@@ -93,6 +100,14 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_info[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.scan_sigma[k]);
     for (int k = 0; k < 6; ++k) add("%.6g", r.est_sigma[k]);
+    s += ',' + r.weak_axes;
+    // The pose's covariance: position in the map frame [m^2], rotation std about the reported
+    // frame's own axes [deg] (doc/localizer.md, Outputs).
+    const Mat6d C = reportedCovariance(r, T);
+    for (const auto& [i, j] : {std::pair{0, 0}, {0, 1}, {0, 2}, {1, 1}, {1, 2}, {2, 2}}) add("%.6g", C(i, j));
+    const Mat3d R = T.linear();
+    const Mat3d Crot = R.transpose() * C.bottomRightCorner<3, 3>() * R;
+    for (int k = 0; k < 3; ++k) add("%.5g", std::sqrt(std::max(0.0, Crot(k, k))) / kDeg);
     return s;
 }
 
@@ -108,6 +123,13 @@ RunOutputs::RunOutputs(const std::string& dir, double map_voxel, bool report)
     csv_ << framesCsvHeader() << '\n' << std::flush;
     tum_ = std::make_unique<io::TumWriter>((std::filesystem::path(dir) / "trajectory.tum").string(),
                                            "superloc-localize: t x y z qx qy qz qw");
+    const std::string cov = (std::filesystem::path(dir) / "trajectory_cov.txt").string();
+    cov_.open(cov);
+    if (!cov_) throw std::runtime_error(cov + ": cannot open for writing");
+    cov_ << "# superloc-localize: t c00 c01 ... c55: the 6x6 covariance of trajectory.tum's pose at t, row-major,\n"
+            "# geometry_msgs/PoseWithCovariance's convention: (x y z) in the map frame [m], rotation about the\n"
+            "# map's fixed x y z axes [rad] (doc/localizer.md, Outputs)\n"
+         << std::flush;
 }
 
 RunOutputs::~RunOutputs() = default;
@@ -115,6 +137,15 @@ RunOutputs::~RunOutputs() = default;
 void RunOutputs::addFrame(const localization::FrameReport& r, const SE3d& T, const std::vector<Vec3f>& map_points) {
     tum_->write(r.t, T);
     csv_ << framesCsvLine(r, T) << '\n' << std::flush;
+    const Mat6d C = reportedCovariance(r, T);
+    char buf[64];
+    std::snprintf(buf, sizeof(buf), "%.9f", r.t);
+    cov_ << buf;
+    for (int i = 0; i < 36; ++i) {
+        std::snprintf(buf, sizeof(buf), " %.9g", C(i / 6, i % 6));
+        cov_ << buf;
+    }
+    cov_ << '\n' << std::flush;
     if (report_) report_->addFrame(r, T);
     for (const auto& p : map_points) {
         if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_)).second) map_.push_back(p);

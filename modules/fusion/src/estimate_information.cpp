@@ -146,6 +146,22 @@ void EstimateInformation::commit(const FrameState& cur, const Mat6d& H_scan) {
     prior_ = p;
 }
 
+std::optional<Vec6d> EstimateInformation::motionVariance(double dt, const Mat3d& R_map_imu) const {
+    if (!carried_ || !(dt > 0)) return std::nullopt;
+    // The speed-bias block's covariance given the pose (conditioning on the pose is what a
+    // relative motion needs: its uncertainty is what the velocity and bias add over dt).
+    const Eigen::Matrix<double, 9, 9> Hss = 0.5 * (carried_->bottomRightCorner<9, 9>() +
+                                                   carried_->bottomRightCorner<9, 9>().transpose());
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 9, 9>> es(Hss);
+    if (es.info() != Eigen::Success) return std::nullopt;
+    const Eigen::Matrix<double, 9, 1> l = es.eigenvalues().cwiseMax(1e-12);
+    const Eigen::Matrix<double, 9, 9> C = es.eigenvectors() * l.cwiseInverse().asDiagonal() * es.eigenvectors().transpose();
+    const Mat3d Cv = R_map_imu.transpose() * C.topLeftCorner<3, 3>() * R_map_imu;  // map -> body
+    Vec6d v;
+    v << dt * dt * Cv.diagonal(), dt * dt * C.bottomRightCorner<3, 3>().diagonal();
+    return v;
+}
+
 void EstimateInformation::reset() {
     prior_.reset();
     carried_.reset();

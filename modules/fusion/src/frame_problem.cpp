@@ -265,6 +265,9 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
                              prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
     problem.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
                              nullptr, prev.pose, prev.speed_bias);
+    if (in.prior)  // odom_alt's relative motion between the two states (PosePosterior)
+        problem.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), nullptr, prev.pose,
+                                 cur.pose);
     const auto m = marginalize(problem, prev, cur);
     if (!m) return std::nullopt;
     return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);

@@ -31,6 +31,35 @@ void OdomCalibration::solve(Axis& a, bool rotation) const {
     a.var = dof > 1.0 ? ssr / dof : 0.0;
 }
 
+void OdomCalibration::fitWorth(Axis& a) const {
+    // Weighted least squares of q = V / L = wa + wb L over the block lengths with enough blocks,
+    // weights n / q^2 (each mean squared error is known to a relative precision ~ 1 / sqrt(n)).
+    double s00 = 0, s01 = 0, s11 = 0, r0 = 0, r1 = 0;
+    int used = 0;
+    for (size_t h = 0; h < a.blocks.size(); ++h) {
+        if (a.cnt[h] < p_.min_blocks - 1e-9 || !(a.len[h] > 0)) continue;
+        const double L = a.len[h] / a.cnt[h];
+        const double q = std::max(1e-18, a.e2[h] / a.cnt[h] / L);
+        const double w = a.cnt[h] / (q * q);
+        s00 += w, s01 += w * L, s11 += w * L * L, r0 += w * q, r1 += w * q * L;
+        ++used;
+    }
+    a.worth = used > 0;
+    if (!a.worth) return;
+    const double det = s00 * s11 - s01 * s01;
+    double wa = used > 1 && det > 1e-12 * s00 * s11 ? (s11 * r0 - s01 * r1) / det : -1.0;
+    double wb = used > 1 && det > 1e-12 * s00 * s11 ? (s00 * r1 - s01 * r0) / det : -1.0;
+    if (used == 1 || wa < 0) {  // one length, or no error that averages out: all of it a drift
+        wa = 0;
+        wb = r1 / s11;
+    } else if (wb < 0) {  // no drift left: an error that averages out
+        wb = 0;
+        wa = r0 / s00;
+    }
+    a.wa = wa;
+    a.wb = wb;
+}
+
 std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, const std::array<bool, 6>& held) {
     std::array<bool, 6> outlier{};
     const double d = odom.translation().norm();
@@ -39,7 +68,11 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
     const Vec3d t_o = odom.translation(), t_e = est.translation();
     const double forget = std::exp(-d / p_.memory_m);
     for (int k = 0; k < 6; ++k) {
-        if (!held[k]) continue;
+        if (!held[k]) {
+            axes_[k].since_m += d;
+            continue;
+        }
+        axes_[k].since_m = 0;
         Axis& a = axes_[k];
         const bool rot = k >= 3;
         const double r = rot ? phi_o[k - 3] - phi_e[k - 3] : t_o[k] - t_e[k];
@@ -54,11 +87,37 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
                 outlier[k] = true;
                 ++outliers_[k];
                 if (++a.outlier_run < p_.restart_after) continue;
-                a = Axis{};  // the error changed: learn it again, from this frame
+                // The error changed: learn it again, from this frame. What the correction was
+                // worth is kept: it just failed, and its blocks say by how much.
+                Axis fresh;
+                fresh.blocks = a.blocks;
+                fresh.e2 = a.e2, fresh.len = a.len, fresh.cnt = a.cnt;
+                fresh.wa = a.wa, fresh.wb = a.wb, fresh.worth = a.worth;
+                a = fresh;
                 ++restarts_[k];
             }
         }
         a.outlier_run = 0;
+        // Out of sample first: the blocks are corrected with the fit as it stood when they began.
+        // A block begins only where the axis is calibrated (what sigma() is asked for).
+        bool closed = false;
+        const bool cal = calibrated(k);
+        for (size_t h = 0; h < a.blocks.size(); ++h) {
+            auto& b = a.blocks[h];
+            a.e2[h] *= forget, a.len[h] *= forget, a.cnt[h] *= forget;
+            if (!b.open && !cal) continue;
+            if (!b.open) b = Axis::Block{true, a.x, 0.0, 0.0};
+            b.S += r - reg.dot(b.x0);
+            b.L += d;
+            if (b.L >= p_.horizons[h]) {
+                a.e2[h] += b.S * b.S;
+                a.len[h] += b.L;
+                a.cnt[h] += 1.0;
+                b.open = false;
+                closed = true;
+            }
+        }
+        if (closed) fitWorth(a);
         a.A = forget * a.A + reg * reg.transpose();
         a.g = forget * a.g + reg * r;
         a.rr = forget * a.rr + r * r;
@@ -88,6 +147,39 @@ SE3d OdomCalibration::correct(const SE3d& odom) const {
 }
 
 Vec6d OdomCalibration::sigma(const SE3d& odom) const {
+    const double d = odom.translation().norm();
+    Vec6d s;
+    for (int k = 0; k < 6; ++k) {
+        const Axis& a = axes_[k];
+        if (!calibrated(k) || !a.worth) {
+            s[k] = std::numeric_limits<double>::quiet_NaN();
+            continue;
+        }
+        const double D = a.since_m;
+        const double var = a.wa * d + a.wb * ((D + d) * (D + d) - D * D);
+        const double floor = k >= 3 ? p_.sigma_floor_rot : p_.sigma_floor_xyz;
+        s[k] = std::max(floor, std::sqrt(std::max(0.0, var)));
+    }
+    return s;
+}
+
+Vec6d OdomCalibration::worthA() const {
+    Vec6d v;
+    for (int k = 0; k < 6; ++k) v[k] = axes_[k].worth ? axes_[k].wa : std::numeric_limits<double>::quiet_NaN();
+    return v;
+}
+Vec6d OdomCalibration::worthB() const {
+    Vec6d v;
+    for (int k = 0; k < 6; ++k) v[k] = axes_[k].worth ? axes_[k].wb : std::numeric_limits<double>::quiet_NaN();
+    return v;
+}
+Vec6d OdomCalibration::sinceHeld() const {
+    Vec6d v;
+    for (int k = 0; k < 6; ++k) v[k] = axes_[k].since_m;
+    return v;
+}
+
+Vec6d OdomCalibration::fitSigma(const SE3d& odom) const {
     const double d = odom.translation().norm();
     const Vec3d phi = logSO3(odom.linear());
     Vec6d s;

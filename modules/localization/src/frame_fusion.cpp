@@ -34,6 +34,7 @@ FusionFrame OdomAltLink::frame(bool have_prev, const SE3d& T_map_imu, const SE3d
     FusionFrame f;
     f.T_map_imu = T_map_imu;
     f.T_prev_map_imu = T_prev_map_imu;
+    f.dt = t - t_prev;
     if (have_prev && policy_.usesOdomAlt()) {  // first frame: no previous state
         f.odom_delta = delta(t_prev, t);
         if (f.odom_delta && params_.active.prior_cap_by_odom_cov) {
@@ -77,6 +78,7 @@ std::optional<fusion::RelativePosePrior> FrameFusion::prior(const std::vector<Co
     sol.est_weak = frame_.est;
     sol.scan_weak = frame_.scan;
     frame_.T_map_imu = T_map_imu;
+    frame_.pred_motion_var = sol.est_info ? sol.est_info->motionVariance(frame_.dt, T_map_imu.linear()) : std::nullopt;
     return policy_.prior(frame_, risk);
 }
 

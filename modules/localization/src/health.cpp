@@ -4,6 +4,7 @@
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -23,6 +24,8 @@ const char* healthName(Health h) {
 
 void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
     MRPT_LOAD_CONFIG_VAR(weak_gamma, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_sigma_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_sigma_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(degraded_inlier_drop, double, c, s);
     MRPT_LOAD_CONFIG_VAR(lost_inlier_drop, double, c, s);
     MRPT_LOAD_CONFIG_VAR(reference_frames, int, c, s);
@@ -36,7 +39,9 @@ void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
 }
 
 void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(weak_gamma, "[-] an axis with gamma below: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(weak_gamma, "[-] an axis with gamma below: weak (weak_axes; not degraded by itself)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_sigma_xyz, "[m] the pose's position std above: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_sigma_deg, "[deg] the pose's rotation std above: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(degraded_inlier_drop, "[-] inlier ratio below this x the reference: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(lost_inlier_drop, "[-] inlier ratio below this x the reference: lost");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reference_frames, "tracked frames in the reference inlier ratio (median)");
@@ -54,6 +59,8 @@ void HealthParams::validate() const {
         if (!(v >= 0 && v <= 1)) throw ConfigError(std::string("[health] ") + key + " must be in [0, 1]");
     };
     in01(weak_gamma, "weak_gamma");
+    if (!(max_sigma_xyz > 0) || !(max_sigma_deg > 0))
+        throw ConfigError("[health] max_sigma_xyz and max_sigma_deg must be > 0");
     in01(degraded_inlier_drop, "degraded_inlier_drop");
     in01(lost_inlier_drop, "lost_inlier_drop");
     if (lost_inlier_drop > degraded_inlier_drop)
@@ -93,6 +100,13 @@ HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
     c.inliers = ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref;
     c.not_converged = notConverged(r);
     for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p_.weak_gamma;
+    // The pose's std: the largest over directions (the covariance's largest eigenvalue per
+    // group); a frame without a covariance (zero) passes.
+    const auto largest = [](const Eigen::Matrix3d& C) {
+        return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]));
+    };
+    c.sigma_xyz = largest(r.cov.topLeftCorner<3, 3>()) > p_.max_sigma_xyz;
+    c.sigma_rot = largest(r.cov.bottomRightCorner<3, 3>()) > p_.max_sigma_deg * kDeg;
     c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
     c.drift = r.used_imu && p_.drift_window > 0 && r.imu_drift_deg > p_.max_drift_deg;
     return c;
@@ -113,10 +127,8 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
     } else {
         if (c.jump_rejected) add(r.diverged_reason);
         if (c.not_converged) add("not_converged");
-        std::string weak;
-        for (int k = 0; k < 6; ++k)
-            if (c.weak[k]) weak += std::string(weak.empty() ? "" : "_") + kAxisNames[k];
-        if (!weak.empty()) add("weak_" + weak);
+        if (c.sigma_xyz) add("sigma_xyz");
+        if (c.sigma_rot) add("sigma_rot");
         if (c.inliers) add("inliers");
         if (c.prediction) add("prediction");
         if (c.drift) add("drift");

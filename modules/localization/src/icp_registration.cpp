@@ -162,6 +162,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();
+    if (fused) sol.prior = prior;
 }
 
 }  // namespace superloc::localization

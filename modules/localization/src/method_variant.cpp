@@ -7,6 +7,10 @@
 
 namespace superloc::localization {
 
+namespace {
+constexpr double kChi2Dof1P99 = 6.635;  ///< chi-square, 1 dof, 99 %
+}  // namespace
+
 std::optional<fusion::RelativePosePrior> OdomFusionPassive::prior(const FusionFrame& f,
                                                                   const risk::RiskReport&) const {
     if (!f.odom_delta) return std::nullopt;
@@ -38,6 +42,18 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
             if (std::isfinite(cal[k])) sigma[k] = cal[k];
         p.delta = calib_.correct(*f.odom_delta);
     }
+    // The innovation test: odom_alt's (corrected) motion against the IMU-carried prediction's,
+    // on the axes where the estimate is weak. Where they disagree beyond what both claim
+    // (chi-square, 1 dof, 99 %), odom_alt is worth no more than the disagreement says.
+    if (f.pred_motion_var) {
+        const Vec6d nu = toVec6(p.delta.inverse() * (f.T_prev_map_imu.inverse() * f.T_map_imu));
+        const Mat6d P = f.est.G * f.est.G;
+        for (int k = 0; k < 6; ++k) {
+            if (P(k, k) < 0.5) continue;
+            const double s2 = sigma[k] * sigma[k], v = (*f.pred_motion_var)[k];
+            if (nu[k] * nu[k] > kChi2Dof1P99 * (s2 + v)) sigma[k] = std::sqrt(std::max(s2, nu[k] * nu[k] - v));
+        }
+    }
     // ... applied along the directions where the estimate is weak, in proportion to how weak.
     const Vec6d w_odom = sigma.cwiseAbs2().cwiseInverse();
     const Mat6d W = f.est.G * w_odom.asDiagonal() * f.est.G;
@@ -55,9 +71,8 @@ void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
     // odom_alt prior pulled it (the prior lies along the estimate's weak directions only).
     const Mat6d Ps = f.scan.G * f.scan.G, Pe = f.est.G * f.est.G;
     std::array<bool, 6> held{};
-    bool any = false;
-    for (int k = 0; k < 6; ++k) any |= held[k] = Ps(k, k) < 0.1 && Pe(k, k) < 0.1;
-    if (!any) return;
+    for (int k = 0; k < 6; ++k) held[k] = Ps(k, k) < 0.1 && Pe(k, k) < 0.1;
+    // Every frame: the unheld axes count the travel since they were last held.
     calib_.update(*f.odom_delta, f.T_prev_map_imu.inverse() * f.T_map_imu, held);
 }
 

@@ -1,6 +1,7 @@
 // The Tracker: one frame from its prediction to its solution (tracker.h).
 #include <superloc/core/se3.h>
 #include <superloc/core/timing.h>
+#include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/tracker.h>
 
 #include <cmath>
@@ -21,7 +22,13 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
       preproc_(params.features),
       icp_(params),
       ndt_(params, icp_.association()),
-      odom_link_(sensors, *variant.fusion, params_.fusion, methodFromString(params.loc.method), log) {}
+      odom_link_(sensors, *variant.fusion, params_.fusion, methodFromString(params.loc.method), log),
+      post_([&] {
+          Vec6d floor;
+          floor << Vec3d::Constant(params.fusion.active.cov_floor_xyz),
+              Vec3d::Constant(params.fusion.active.cov_floor_deg * kDeg);
+          return floor;
+      }()) {}
 
 void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt) {
     map_ = std::move(map);
@@ -100,7 +107,29 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
     }
     // Step 6: report.
     finish(f, f.pred, velocity_unknown, sol, rep);
+    if (variant_.registration != RegistrationKind::Ndt && !rep.diverged) posterior(f, sol, rep);
     return sol;
+}
+
+void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
+    fusion::FrameState pv = f.prev, c = sol.state;
+    fusion::FrameProblemInputs in;
+    in.prev = &pv;
+    in.cur = &c;
+    // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
+    const double s = params_.fusion.active.estimate_imu_scale;
+    std::optional<imu::Preintegration> est_imu;
+    if (f.pred.used_imu && !f.first) est_imu = f.pre.withNoiseScale(s);
+    in.imu = est_imu ? &*est_imu : nullptr;
+    in.g_map = g_map_;
+    in.acc_bias_rw = s * params_.imu.acc_bias_rw;
+    in.gyro_bias_rw = s * params_.imu.gyro_bias_rw;
+    if (sol.prior && !f.first) {
+        in.prior = *sol.prior;
+        if (sol.prior->worth) in.prior->sqrt_info = fusion::sqrtInfo(*sol.prior->worth);
+    }
+    sol.post = post_.update(in, params_.fusion, sol.scan_info);
+    rep.cov = sol.post->cov;
 }
 
 void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,
@@ -115,10 +144,15 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     fusion::FrameProblemInputs in;
     in.prev = &pv;
     in.cur = &c;
-    in.imu = imu;
+    // The IMU chain as it really errs (ActiveFusionParams::estimate_imu_scale), not as the
+    // solver's inflated noise would have it.
+    const double s = params_.fusion.active.estimate_imu_scale;
+    std::optional<imu::Preintegration> est_imu;
+    if (imu) est_imu = imu->withNoiseScale(s);
+    in.imu = est_imu ? &*est_imu : nullptr;
     in.g_map = g_map_;
-    in.acc_bias_rw = params_.imu.acc_bias_rw;
-    in.gyro_bias_rw = params_.imu.gyro_bias_rw;
+    in.acc_bias_rw = s * params_.imu.acc_bias_rw;
+    in.gyro_bias_rw = s * params_.imu.gyro_bias_rw;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);
     rep.ms.risk += msSince(t_est);
@@ -235,6 +269,16 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
     }
     rep.T_map_imu = T;
     rep.T_map_lidar = T * scan.T_imu_lidar;
+    // The pose's covariance from this solve's scan alone (a tracked frame's posterior replaces
+    // it: posterior()), and the axes the scan holds weakly.
+    const auto t_cov = Clock::now();
+    const double n = params_.risk.normal_noise_deg * kDeg;
+    rep.cov = post_.covariance(fusion::informationAboveNoise(
+        fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma), std::pow(std::sin(n), 2)));
+    rep.ms.risk += msSince(t_cov);
+    std::array<bool, 6> weak{};
+    for (int k = 0; k < 6; ++k) weak[k] = rep.gamma[k] < params_.health.weak_gamma;
+    rep.weak_axes = risk::axisLetters(weak);
     rep.velocity = sol.state.velocity();
     rep.bias = sol.state.bias();
 }
@@ -268,6 +312,10 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     } else {
         est_info_.reset();
     }
+    if (tracked && sol.post)
+        post_.commit(*sol.post);
+    else
+        post_.reset();
     if (tracked && !f.first && variant_.fusion->usesOdomAlt()) odom_link_.frameDone(*variant_.fusion, sol, f.prev, rep);
     if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
         prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);

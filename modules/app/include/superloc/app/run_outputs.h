@@ -1,6 +1,7 @@
 // Outputs of a localization run (doc/localizer.md), written progressively: the app layer's writers.
 //   trajectory.tum  one pose per frame (flushed per line)
 //   frames.csv      one localization::FrameReport per line (flushed per line), header below
+//   trajectory_cov.txt  each pose's 6 x 6 covariance, ROS's convention (flushed per line)
 //   summary.json    counts and timing statistics (at the end)
 //   localized_map.pcd  every scan's points at its estimate, voxelized (at the end)
 //   report.html     the run at a glance (run_report.h; at the end, unless switched off)
@@ -31,6 +32,9 @@ namespace superloc::app {
 std::string framesCsvHeader();
 /// One frames.csv line for a report; `T` is the pose written (lidar or body, per output_frame).
 std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T);
+/// The frame's pose covariance for the written pose `T` (lidar or body), in
+/// geometry_msgs/PoseWithCovariance's convention (fusion::toReported).
+Mat6d reportedCovariance(const localization::FrameReport& r, const SE3d& T);
 
 /// Statistics of a run for summary.json.
 struct RunSummary {
@@ -84,6 +88,7 @@ class RunOutputs {
     std::string dir_;
     std::unique_ptr<io::TumWriter> tum_;
     std::ofstream csv_;
+    std::ofstream cov_;  ///< trajectory_cov.txt
     float voxel_;
     std::unordered_set<VoxelKey, VoxelKeyHash> occupied_;
     std::vector<Vec3f> map_;

@@ -73,6 +73,11 @@ class EstimateInformation {
     void commit(const FrameState& cur, const Mat6d& H);
     /// Forget everything (after a relocalization, a divergence, a lost frame).
     void reset();
+    /// The variance of the IMU-carried prediction's body motion over a frame of `dt` seconds,
+    /// per body axis (x y z roll pitch yaw), for the body rotation `R_map_imu`: the carried
+    /// velocity's and gyro bias's covariance times dt^2 (what the prediction does not know of
+    /// the motion since the last frame). Empty before predict() or without IMU.
+    std::optional<Vec6d> motionVariance(double dt, const Mat3d& R_map_imu) const;
 
    private:
     Mat6d scanPart(const Mat6d& H) const;

@@ -19,6 +19,10 @@ namespace superloc::fusion {
 struct RelativePosePrior {
     SE3d delta = SE3d::Identity();  ///< T_imu(prev)_imu(cur)
     Mat6d sqrt_info = Mat6d::Zero();
+    /// The information odom_alt is worth over the frame, for the pose's covariance
+    /// (PosePosterior), where the solve holds it on another scale (superloc with IMU); empty:
+    /// sqrt_info's.
+    std::optional<Mat6d> worth;
 };
 
 struct FrameProblemInputs {
@@ -63,7 +67,8 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
 /// coordinates (translation in the current body axes, body rotation, velocity, biases): the
 /// pose block is in the coordinates of scanInformation (a right perturbation T Exp(d)). Empty
 /// without IMU (`in.imu` null or dt 0) or when the linearization fails. Touches neither state;
-/// the scan and odom_alt prior of `in` are not used.
+/// the scan is not used; odom_alt's relative prior `in.prior`, when set, joins the two states
+/// (without its robust loss) before the previous one is eliminated.
 std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, const FusionParams& params);
 
 /// The pose's information in a state information M (15 x 15, pose first): velocity and biases

@@ -13,6 +13,17 @@
 // uncertainty growing with d: the weight odom_alt is worth on an axis the scan does not hold.
 // A frame whose residual on a held axis is far outside that (a jump) is not learned from and
 // counts as an outlier; many in a row mean the error itself changed, and that axis starts again.
+//
+// What the corrected odom_alt is worth is measured out of sample (doc/method.md §2, "What
+// odom_alt is worth"): on the held frames, blocks of held travel of several lengths H (2.5 m to
+// 160 m) are corrected with the fit as it stood when each block began, and the squared sum of
+// what the correction then left is the error the calibration makes when it is carried H metres
+// without a check. V(D) = a D + b D^2 is fitted to those (a: an error that averages out, b: one
+// that keeps its sign, a drift the fit did not remove), and a frame of d metres at D metres since
+// the scan last held the axis gets the per-frame variance V(D + d) - V(D): summed over the
+// frames of a blind stretch, the fused odometry is as sure as it has shown it can be over that
+// stretch, and no surer. A wandering or changed error shows in the longer blocks at once; a
+// fixed one, once fitted, leaves small errors at every length.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -30,6 +41,9 @@ struct OdomCalibrationParams {
     int restart_after = 10;
     double sigma_floor_xyz = 0.0005;  ///< [m] per-frame std never below this
     double sigma_floor_rot = 0.01 * 3.14159265358979323846 / 180.0;  ///< [rad] likewise
+    /// Out-of-sample blocks of held travel [m], ascending (kHorizons of them).
+    std::array<double, 7> horizons{2.5, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0};
+    int min_blocks = 3;  ///< [-] blocks of a length before it counts in the worth's fit
 };
 
 class OdomCalibration {
@@ -45,9 +59,18 @@ class OdomCalibration {
     /// are left as they are).
     SE3d correct(const SE3d& odom) const;
 
-    /// Per-frame std of the corrected motion per axis, for a frame of odom_alt motion `odom`;
-    /// empty entries (NaN) where the axis has no usable fit yet.
+    /// Per-frame std of the corrected motion per axis, for a frame of odom_alt motion `odom`
+    /// taken at the distance since the scan last held each axis (out of sample, above); NaN
+    /// where the axis has no fit, or no measured worth, yet.
     Vec6d sigma(const SE3d& odom) const;
+    /// The in-sample std (the fit's own residual, as before the out-of-sample worth), NaN where
+    /// not calibrated: for comparison (tests, doc/method.md).
+    Vec6d fitSigma(const SE3d& odom) const;
+    /// The worth's model per axis: V(D) = a D + b D^2 [m^2 or rad^2]; NaN where not measured.
+    Vec6d worthA() const;
+    Vec6d worthB() const;
+    /// [m] travel since the scan last held each axis.
+    Vec6d sinceHeld() const;
 
     /// Whether axis k has been fitted over at least min_held_m of held travel.
     bool calibrated(int k) const;
@@ -71,8 +94,22 @@ class OdomCalibration {
         double var = 0;       ///< residual variance per frame after the correction
         Eigen::Vector2d x = Eigen::Vector2d::Zero();
         Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();  ///< of x, per unit variance
+        // Out-of-sample worth (above): per block length, the open block and the forgotten
+        // sums of the closed ones (squared error, length, count).
+        struct Block {
+            bool open = false;
+            Eigen::Vector2d x0 = Eigen::Vector2d::Zero();  ///< the correction when it began
+            double S = 0, L = 0;                           ///< error left, held travel
+        };
+        std::array<Block, 7> blocks;
+        std::array<double, 7> e2{}, len{}, cnt{};
+        double wa = 0, wb = 0;  ///< V(D) = wa D + wb D^2
+        bool worth = false;
+        double since_m = 0;     ///< travel since the scan last held the axis (not reset by a restart)
     };
     void solve(Axis& a, bool rotation) const;
+    void fitWorth(Axis& a) const;
+
 
     OdomCalibrationParams p_;
     std::array<Axis, 6> axes_;

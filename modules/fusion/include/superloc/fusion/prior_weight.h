@@ -46,6 +46,15 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// (fusion::OdomCalibration, doc/method.md §2)
     bool odom_calibration = true;
     double calibration_memory_m = 500.0;  ///< [m] forgetting distance of that fit
+    /// [-] superloc and the pose covariance: the estimate's information (EstimateInformation)
+    /// carries the IMU chain with [imu]'s noise densities and bias walks times this. The solver
+    /// keeps [imu]'s own, inflated for robustness; this makes the estimate's std along a blind
+    /// axis the error the IMU chain really makes (doc/method.md §2, "The estimate's own sigma")
+    double estimate_imu_scale = 0.2;
+    /// The reported pose's covariance (fusion::PosePosterior, doc/method.md §4): a floor per axis
+    /// for the errors all of a frame's residuals share (map, deskew, timing)
+    double cov_floor_xyz = 0.01;    ///< [m]
+    double cov_floor_deg = 0.05;    ///< [deg]
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 

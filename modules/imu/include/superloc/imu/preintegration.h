@@ -64,6 +64,15 @@ class Preintegration {
     Vec3d correctedDeltaV(const ImuBias& b) const;
     Vec3d correctedDeltaP(const ImuBias& b) const;
 
+    /// The same increments with the covariance of noise densities `s` times these (cov s^2).
+    Preintegration withNoiseScale(double s) const {
+        Preintegration p = *this;
+        p.cov_ *= s * s;
+        p.noise_.acc *= s;
+        p.noise_.gyro *= s;
+        return p;
+    }
+
     /// State at j from the state at i (Forster eq. 33), gravity g_map e.g. (0, 0, -9.81).
     NavState predict(const NavState& i, const ImuBias& b, const Vec3d& g_map) const;
 

@@ -54,6 +54,13 @@ struct FrameReport {
     Vec6d scan_info = Vec6d::Zero();
     Vec6d scan_sigma = Vec6d::Zero();
     Vec6d est_sigma = Vec6d::Zero();
+    /// The pose's covariance (fusion::PosePosterior, doc/method.md §4): of a right perturbation
+    /// T_map_imu Exp(d), d = (translation in body axes [m], rotation vector [rad]); zero when the
+    /// frame has none (outputs turn it into the reported pose's ROS convention: toReported).
+    Mat6d cov = Mat6d::Zero();
+    /// The axes the scan constrains weakly (gamma below [health] weak_gamma), as letters: held
+    /// by the IMU or odom_alt, reported, not degraded by themselves.
+    std::string weak_axes;
     bool prior_used = false;           ///< a relative-pose prior entered the solve
     Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
 

@@ -4,12 +4,14 @@
 //   lost      the registration failed (diverged: too few inliers, no correspondences, solver, a
 //             jump without IMU to fall back on), or its inlier ratio fell below
 //             lost_inlier_drop x what this map and sensor give when tracking is right
-//   degraded  the pose stands but some evidence is missing: still moving when its rounds ran out,
-//             an axis weakly constrained by the scan (gamma below weak_gamma: that axis comes
-//             from the prediction or odom_alt, not the map), an inlier ratio below
+//   degraded  the pose stands but is not good enough to act on, or some evidence is missing: its
+//             covariance's std above max_sigma_xyz / max_sigma_deg (what a navigation stack
+//             tolerates), still moving when its rounds ran out, an inlier ratio below
 //             degraded_inlier_drop x the reference, the IMU prediction disagreeing with the
 //             solved pose, or a registration rejected in favour of the IMU prediction
 //   ok        none of the above
+// An axis the scan constrains weakly (gamma below weak_gamma) is reported (weak_axes) but is not
+// degraded by itself: the IMU or odom_alt may hold it, and the covariance says whether they do.
 // The reference inlier ratio is the median of the last `reference_frames` frames that were
 // tracked (converged, not diverged, inliers and prediction checks passed).
 #pragma once
@@ -35,7 +37,9 @@ struct HealthChecks {
     bool inliers_lost = false;   ///< inlier ratio below lost_inlier_drop x the reference (lost)
     bool inliers = false;        ///< inlier ratio below degraded_inlier_drop x the reference
     bool not_converged = false;  ///< still moving when the rounds ran out
-    std::array<bool, 6> weak{};  ///< gamma below weak_gamma, per axis (x y z roll pitch yaw)
+    std::array<bool, 6> weak{};  ///< gamma below weak_gamma, per axis (reported, not degraded by itself)
+    bool sigma_xyz = false;      ///< the position's std above max_sigma_xyz
+    bool sigma_rot = false;      ///< the rotation's std above max_sigma_deg
     bool prediction = false;     ///< IMU prediction and solved pose disagree
     bool drift = false;          ///< the solved rotation drifted from the gyro's over drift_window
     bool unconfirmed = false;    ///< after an unsettled doubt, not yet confirmed by a search
@@ -59,7 +63,11 @@ enum class HealthEvidence {
 
 /// Section [health] of the INI.
 struct HealthParams : public mrpt::config::CLoadableOptions {
-    double weak_gamma = 0.3;            ///< [-] an axis with gamma below: degraded (the risk flag is 0.2)
+    double weak_gamma = 0.3;            ///< [-] an axis with gamma below: weak (reported; the risk flag is 0.2)
+    /// The pose's covariance (FrameReport::cov): its largest std above these is degraded, what
+    /// a navigation stack does not tolerate (doc/health.md)
+    double max_sigma_xyz = 0.10;        ///< [m]
+    double max_sigma_deg = 1.0;         ///< [deg]
     double degraded_inlier_drop = 0.9;  ///< [-] inlier ratio below this x the reference: degraded
     double lost_inlier_drop = 0.6;      ///< [-] below this x the reference: lost
     int reference_frames = 20;          ///< tracked frames whose median inlier ratio is the reference

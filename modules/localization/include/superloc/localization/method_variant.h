@@ -49,6 +49,10 @@ struct FusionFrame {
     /// The scan's information at the predicted pose from `corr` (fusion::scanInformation, body
     /// axes, before its noise floor): computed once per frame by FrameFusion for every policy.
     Mat6d scan_H = Mat6d::Zero();
+    /// The variance of the IMU-carried prediction's body motion over the frame per axis
+    /// (EstimateInformation::motionVariance): empty without IMU.
+    std::optional<Vec6d> pred_motion_var;
+    double dt = 0;  ///< [s] from the previous frame
 };
 
 class OdomFusion {
@@ -93,8 +97,11 @@ class OdomFusionPassive : public OdomFusion {
 /// axes the scan holds (fusion::OdomCalibration) and removed, fused in proportion to how weak
 /// the estimate without it is along each direction, with the information it is worth there:
 ///   W = G diag(1 / sigma_odom,k^2) G,   G = FusionFrame::est.G (fusion::weakness)
-/// sigma_odom: the calibration's residual std where an axis is calibrated, else the growth of
-/// odom_alt's reported std over the frame, else the passive prior's sigmas.
+/// sigma_odom: what the calibration has shown out of sample at the distance since the scan last
+/// held the axis (fusion::OdomCalibration::sigma), else the growth of odom_alt's reported std
+/// over the frame, else the passive prior's sigmas. An innovation test against the IMU-carried
+/// prediction (chi-square, 1 dof per weak axis, 99 %) widens sigma_odom on an axis where the
+/// two disagree beyond what both claim, to the variance that explains the disagreement.
 class OdomFusionActive : public OdomFusion {
    public:
     OdomFusionActive(const fusion::ActiveFusionParams& p, const Vec6d& weak_sigma);

@@ -8,6 +8,7 @@
 
 #include <superloc/core/correspondence.h>
 #include <superloc/fusion/estimate_information.h>
+#include <superloc/fusion/pose_posterior.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/imu/preintegration.h>
@@ -37,6 +38,10 @@ struct FrameSolution {
     Mat6d scan_info = Mat6d::Zero();
     fusion::Weakness est_weak, scan_weak;
     std::optional<fusion::EstimateInformation> est_info;
+    /// A tracked solve's odom_alt prior (when one entered it).
+    std::optional<fusion::RelativePosePrior> prior;
+    /// A tracked frame's posterior (fusion::PosePosterior), committed when the frame is final.
+    std::optional<fusion::PosePosterior::Update> post;
 };
 
 /// What a solve is for. Track: this frame in the prior map (the method's registration, IMU

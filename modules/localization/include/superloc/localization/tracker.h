@@ -128,6 +128,11 @@ class Tracker {
     /// What the estimate knows without odom_alt (the weak-axis decision, doc/method.md §2).
     fusion::EstimateInformation est_info_{std::pow(std::sin(params_.risk.normal_noise_deg * M_PI / 180), 2),
                                           params_.risk.weak_sigma_xyz};
+    /// The reported pose's covariance (doc/method.md §4): scan, IMU window and odom_alt together.
+    fusion::PosePosterior post_;
+    /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
+    /// prior and the scan give the solved state.
+    void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;

@@ -19,6 +19,16 @@
 // Heading slip (off by default): every increment also turns about the body z axis by
 // slip_deg_per_m degrees per metre travelled (sign from its own stream), not shown in the
 // covariance: a wheel odometry whose wheels slip, wrong on yaw, which walls constrain well.
+// Wandering error (off by default; doc/sim.md "odom_alt"): a scale error s (a share of each
+// increment's translation), a lateral and a vertical drift (metres per metre along body y and z)
+// and a heading rate h (yaw per metre) that are random processes over the distance travelled:
+// first-order Gauss-Markov (Ornstein-Uhlenbeck in distance) with stationary stds `scale_sigma`,
+// `lateral_sigma`, `vertical_sigma`, `heading_sigma_deg` and correlation length `wander_length`
+// (0: each drawn once and held for the whole run, an infinite correlation length), and abrupt
+// changes: every `change_every_m` metres all four are drawn afresh (a change of floor or tyre
+// load). None of it is in the reported covariance, which keeps the fixed drift's bound: like a
+// real odometry, it does not know how wrong it is. Drawn from a stream of its own, so the
+// fixed drift, noise, jumps and slip are the same numbers with or without it.
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -43,6 +53,13 @@ struct OdomAltParams : public mrpt::config::CLoadableOptions {
     double jump_deg = 0;          ///< [deg] size of a jump's rotation (random axis)
     std::string drift_axis = "random";  ///< body direction of the drift: random | x | y | z
     double slip_deg_per_m = 0;    ///< [deg/m] unreported heading slip about body z (0 = none)
+    // Wandering error (0 = off): stationary 1-sigma of each process
+    double scale_sigma = 0;        ///< [-] scale error of the translation (a share of each step)
+    double lateral_sigma = 0;      ///< [m/m] drift along body y per metre travelled
+    double vertical_sigma = 0;     ///< [m/m] drift along body z per metre travelled
+    double heading_sigma_deg = 0;  ///< [deg/m] turn about body z per metre travelled
+    double wander_length = 0;      ///< [m] correlation length over distance (0: held for the run)
+    double change_every_m = 0;     ///< [m] all four drawn afresh this often (0 = never)
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;
@@ -68,6 +85,17 @@ class OdomAltSimulator {
     std::mt19937_64 jump_rng_;  ///< jumps draw from their own stream: the rest is as without them
     double next_jump_ = -1;     ///< [s] time of the next jump (set at the first sample)
     double slip_sign_ = 1;      ///< heading slip's sign (own stream: nothing else changes)
+    std::mt19937_64 wander_rng_;  ///< the wandering error's own stream
+    Eigen::Vector4d wander_ = Eigen::Vector4d::Zero();  ///< current s, lateral, vertical [m/m], heading [rad/m]
+    double next_change_ = 0;        ///< [m] distance of the next abrupt change
+
+ public:
+    /// The wandering error's current values: s [-], lateral, vertical [m/m], heading [rad/m].
+    const Eigen::Vector4d& wander() const { return wander_; }
+
+ private:
+    Eigen::Vector4d wanderSigma() const;
+    void drawWander();
 };
 
 }  // namespace superloc::sim

@@ -1,0 +1,76 @@
+// The covariance of the pose a frame reports (doc/method.md §4): what the frame's solve knows of
+// it, the scan, the IMU window and odom_alt's prior together, made consistent with the error it
+// really makes.
+//
+// A recursive information filter beside the solver, like EstimateInformation but with everything
+// the solve has: each frame, the last frame's information is carried to the current state
+// through the IMU factor *and* odom_alt's relative prior (without IMU, the pose alone through
+// the prior), and the scan's information is added. Three differences from the solver's own
+// marginal make it consistent:
+//   - the IMU chain at the noise it really has (ActiveFusionParams::estimate_imu_scale), not
+//     the solver's inflated [imu] densities;
+//   - odom_alt's prior with the information it has shown (OdomFusionActive: out of sample), not
+//     the solver's scale of it; the passive prior as the method uses it;
+//   - the scan's information above its noise floor (informationAboveNoise): noisy wall normals do
+//     not hold a corridor's axis;
+// and the covariance gets a floor `floor` (6 stds, body axes) for the errors every residual of
+// a frame shares and no count of residuals reveals (the map's own error, the sweep's deskew and
+// timing): measured on the simulated worlds and the real splits (doc/method.md §4).
+//
+// Coordinates: a right perturbation of T_map_imu, T Exp(d), d = (translation in body axes,
+// rotation vector), as scanInformation; toReported() turns it into the reported pose's ROS
+// convention.
+#pragma once
+
+#include <superloc/core/types.h>
+#include <superloc/fusion/frame_problem.h>
+#include <superloc/fusion/state_prior_factor.h>
+
+#include <optional>
+
+namespace superloc::fusion {
+
+class PosePosterior {
+   public:
+    /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]).
+    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero()) : floor_(floor) {}
+
+    struct Update {
+        /// The current state's information after the frame (IMU: 15 x 15; without: pose only,
+        /// in the top-left 6 x 6), to commit.
+        Mat15d info = Mat15d::Zero();
+        bool with_imu = false;
+        SE3d T_ref = SE3d::Identity();
+        Vec9d sb_ref = Vec9d::Zero();
+        Mat6d cov = Mat6d::Identity();  ///< the pose's covariance, floor included
+    };
+
+    /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
+    /// scale, or null), `in.prior` (odom_alt's prior at the information it is worth, or none),
+    /// and the scan's information above its noise floor `H`. Does not change the filter.
+    Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H) const;
+    /// The frame is final: its information is the next frame's prior.
+    void commit(const Update& u);
+    /// Forget everything (a lost, diverged or relocalized frame).
+    void reset();
+    /// A pose's covariance from its information alone, floor included (unheld directions capped
+    /// at kMaxSigma).
+    Mat6d covariance(const Mat6d& info) const;
+
+   private:
+    Vec6d floor_;
+    std::optional<StatePrior> prior_;  ///< with IMU: on the last committed state
+    std::optional<std::pair<SE3d, Mat6d>> pose_prior_;  ///< without: T_map_imu and its information
+};
+
+/// The covariance `C` of a right perturbation of T_map_imu as the ROS convention of the reported
+/// pose T_map_imu * T_imu_out (e.g. T_imu_lidar): position in the map frame, rotation about the
+/// map's fixed axes, order (x y z rotX rotY rotZ) — geometry_msgs/PoseWithCovariance.
+Mat6d toReported(const Mat6d& C, const SE3d& T_map_imu, const SE3d& T_imu_out);
+
+/// The Jacobian of toVec6(delta^-1 T_prev^-1 T_cur) w.r.t. a right perturbation of T_prev at a
+/// zero residual (T_rel = T_prev^-1 T_cur): [[-R^T, R^T [t]x], [0, -R^T]] with R, t of T_rel;
+/// w.r.t. the current pose's it is the identity.
+Mat6d relativeJacobianPrev(const SE3d& T_rel);
+
+}  // namespace superloc::fusion

@@ -1,0 +1,112 @@
+// The reported pose's covariance (pose_posterior.h, doc/method.md §4).
+#include <superloc/core/se3.h>
+#include <superloc/fusion/estimate_information.h>
+#include <superloc/fusion/pose_posterior.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+
+namespace superloc::fusion {
+
+namespace {
+Mat3d skew(const Vec3d& v) {
+    Mat3d m;
+    m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    return m;
+}
+}  // namespace
+
+Mat6d relativeJacobianPrev(const SE3d& T_rel) {
+    const Mat3d Rt = T_rel.linear().transpose();
+    Mat6d J = Mat6d::Zero();
+    J.topLeftCorner<3, 3>() = -Rt;
+    J.topRightCorner<3, 3>() = Rt * skew(T_rel.translation());
+    J.bottomRightCorner<3, 3>() = -Rt;
+    return J;
+}
+
+Mat6d PosePosterior::covariance(const Mat6d& info) const {
+    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (info + info.transpose()));
+    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
+    Mat6d C = Mat6d::Zero();
+    for (int i = 0; i < 6; ++i) {
+        const double l = es.eigenvalues()[i];
+        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() /
+                       (std::isfinite(l) ? std::max(min_info, l) : min_info);
+    }
+    C.diagonal() += floor_.cwiseAbs2();
+    return 0.5 * (C + C.transpose());
+}
+
+PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
+                                            const Mat6d& H) const {
+    Update u;
+    u.T_ref = in.cur->T_map_imu();
+    for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
+    Mat6d pose_info = H;
+    if (in.imu && in.imu->dt() > 0) {
+        FrameProblemInputs p = in;
+        p.prev_prior = prior_ ? &*prior_ : nullptr;
+        if (const auto carried = imuWindowStateInformation(p, params)) {
+            u.with_imu = true;
+            u.info = *carried;
+            u.info.topLeftCorner<6, 6>() += H;
+            if (const auto I = poseInformation(u.info)) pose_info = *I;
+        }
+    } else if (pose_prior_ && in.prior && in.prev) {
+        // Without IMU: the last pose's information carried through odom_alt's relative prior,
+        // the previous pose eliminated (Schur complement of the 12 x 12 joint information).
+        const Mat6d W = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
+        const Mat6d Jp = relativeJacobianPrev(in.prev->T_map_imu().inverse() * in.cur->T_map_imu());
+        const Mat6d App = pose_prior_->second + Jp.transpose() * W * Jp;
+        const Eigen::LDLT<Mat6d> ldlt(0.5 * (App + App.transpose()));
+        if (ldlt.info() == Eigen::Success) {
+            const Mat6d Apc = Jp.transpose() * W;
+            Mat6d carried = W - Apc.transpose() * ldlt.solve(Apc);
+            carried = 0.5 * (carried + carried.transpose());
+            if (carried.allFinite()) pose_info += carried;
+        }
+    }
+    if (!u.with_imu) u.info.topLeftCorner<6, 6>() = pose_info;
+    u.cov = covariance(pose_info);
+    return u;
+}
+
+void PosePosterior::commit(const Update& u) {
+    if (u.with_imu) {
+        const Mat15d M = 0.5 * (u.info + u.info.transpose());
+        const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
+        if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) {
+            reset();
+            return;
+        }
+        StatePrior p;
+        p.T_ref = u.T_ref;
+        p.sb_ref = u.sb_ref;
+        p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+        prior_ = p;
+        pose_prior_.reset();
+    } else {
+        prior_.reset();
+        pose_prior_ = std::make_pair(u.T_ref, Mat6d(u.info.topLeftCorner<6, 6>()));
+    }
+}
+
+void PosePosterior::reset() {
+    prior_.reset();
+    pose_prior_.reset();
+}
+
+Mat6d toReported(const Mat6d& C, const SE3d& T_map_imu, const SE3d& T_imu_out) {
+    // T_out = T_map_imu Exp(d) T_imu_out: position p + R(u + theta x t), rotation R Exp(theta) R_io
+    // = Exp(R theta) R R_io. So dp_map = R u - R [t]x theta, dtheta_map = R theta.
+    const Mat3d R = T_map_imu.linear();
+    Mat6d J = Mat6d::Zero();
+    J.topLeftCorner<3, 3>() = R;
+    J.topRightCorner<3, 3>() = -R * skew(T_imu_out.translation());
+    J.bottomRightCorner<3, 3>() = R;
+    const Mat6d out = J * C * J.transpose();
+    return 0.5 * (out + out.transpose());
+}
+
+}  // namespace superloc::fusion
