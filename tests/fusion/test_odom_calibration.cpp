@@ -119,3 +119,97 @@ TEST(OdomCalibration, ForgetsWithTheDistanceTravelled) {
     }
     EXPECT_NEAR(cal.drift().x(), 0.005, 1e-3);
 }
+
+// What the corrected odometry is worth, out of sample (odom_calibration.h): with a fixed error
+// the calibration removes, the per-frame std right after a held frame is the noise left; it
+// grows with the distance since the axis was last held, so that a blind stretch's frames summed
+// are as sure as the blocks of held travel showed the correction to be over that distance.
+TEST(OdomCalibration, WorthGrowsWithTheDistanceSinceTheAxisWasHeld) {
+    std::mt19937 rng(11);
+    const Vec3d b(0.02, 0.0, 0.0);
+    OdomCalibration cal;
+    for (int k = 0; k < 400; ++k) {  // 200 m, every axis held
+        const SE3d m = trueMotion(k);
+        cal.update(odometer(m, b, 0, 0, 0.0005, 0.0002, rng), m, all());
+    }
+    const double s0 = cal.sigma(trueMotion(0))[0];
+    EXPECT_GT(s0, 0.0003);
+    EXPECT_LT(s0, 0.0015);  // the 0.5 mm of noise, and the fit's own uncertainty
+    std::array<bool, 6> blind = all();
+    blind[0] = false;
+    double last = s0;
+    for (int k = 400; k < 600; ++k) {  // 100 m with x blind: its std per frame never falls...
+        const SE3d m = trueMotion(k);
+        cal.update(odometer(m, b, 0, 0, 0.0005, 0.0002, rng), m, blind);
+        const double s = cal.sigma(trueMotion(k))[0];
+        EXPECT_GE(s, last - 1e-12) << k;
+        last = s;
+    }
+    // ...and, the blocks having shown no drift left (a fixed error, removed), stays the noise's:
+    // the calibrated odometry keeps its full worth however far it goes unchecked.
+    EXPECT_LT(last, 0.002);
+    EXPECT_NEAR(cal.sinceHeld()[0], 100.0, 5.0);
+    EXPECT_LT(cal.sinceHeld()[1], 1e-9);  // y was held all along
+    // A drift that then changes shows in the blocks at once, and the std grows with the distance.
+    const Vec3d b2(0.03, 0.0, 0.0);
+    for (int k = 600; k < 800; ++k) {
+        const SE3d m = trueMotion(k);
+        cal.update(odometer(m, b2, 0, 0, 0.0005, 0.0002, rng), m, all());
+    }
+    const double s_held = cal.sigma(trueMotion(0))[0];
+    for (int k = 800; k < 900; ++k) {
+        const SE3d m = trueMotion(k);
+        cal.update(odometer(m, b2, 0, 0, 0.0005, 0.0002, rng), m, blind);
+    }
+    EXPECT_GT(cal.sigma(trueMotion(0))[0], 1.5 * s_held);  // measured: 1.7x after 50 m
+}
+
+// A wandering error (a scale that changes over ~40 m) fools an in-sample residual: the fit on
+// the data it was fit to says millimetres. Out of sample the blocks show the drift the
+// correction leaves, and over blind stretches of 20-60 m the summed per-frame variances cover
+// the error the corrected odometry really makes there (normalized squared error near 1).
+TEST(OdomCalibration, AWanderingErrorIsWorthWhatItShowsOutOfSample) {
+    std::mt19937 rng(5);
+    std::normal_distribution<double> n01(0.0, 1.0);
+    OdomCalibration cal;
+    double scale = 0.0;
+    const double sigma_s = 0.02, L = 40.0;
+    std::vector<double> nees;
+    double in_sample = 0, out_sample = 0;
+    int k = 0;
+    for (int stretch = 0; stretch < 60; ++stretch) {
+        // 40 m held, then a blind stretch of 20-60 m along x.
+        const int blind_frames = 40 + 40 * (stretch % 3);
+        for (int phase = 0; phase < 2; ++phase) {
+            const int frames = phase == 0 ? 80 : blind_frames;
+            std::array<bool, 6> held = all();
+            held[0] = phase == 0;
+            double err = 0, var = 0;
+            for (int i = 0; i < frames; ++i, ++k) {
+                const SE3d m = trueMotion(k);
+                const double d = m.translation().norm();
+                scale = std::exp(-d / L) * scale + sigma_s * std::sqrt(1 - std::exp(-2 * d / L)) * n01(rng);
+                const SE3d o = odometer(m, Vec3d::Zero(), 0, 0, 0.0005, 0.0002, rng);
+                SE3d os = o;
+                os.translation() += scale * m.translation();
+                if (phase == 1 && stretch >= 10) {
+                    const double s = cal.sigma(os)[0];
+                    ASSERT_TRUE(std::isfinite(s));
+                    var += s * s;
+                    err += cal.correct(os).translation().x() - m.translation().x();
+                    out_sample += s;
+                    in_sample += cal.fitSigma(os)[0];
+                }
+                cal.update(os, m, held);
+            }
+            if (phase == 1 && stretch >= 10) nees.push_back(err * err / var);
+        }
+    }
+    ASSERT_GT(nees.size(), 40u);
+    double mean = 0;
+    for (double v : nees) mean += v;
+    mean /= double(nees.size());
+    EXPECT_GT(mean, 0.25);  // not several times too pessimistic
+    EXPECT_LT(mean, 2.5);   // nor overconfident
+    EXPECT_GT(out_sample, 3.0 * in_sample);  // what the in-sample residual would have claimed
+}

@@ -1,6 +1,7 @@
 // Health checks (doc/health.md) on hand-made frame reports: each check alone, the reference.
 #include <gtest/gtest.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/core/se3.h>
 #include <superloc/localization/health.h>
 #include <superloc/localization/relocalization.h>
 #include <mrpt/config/CConfigFileMemory.h>
@@ -40,10 +41,23 @@ TEST(Health, EachCheckAlone) {
     EXPECT_EQ(h.classify(r, &why), Health::Degraded);
     EXPECT_EQ(why, "not_converged");
     r = tracked(0.9);
-    r.gamma[0] = 0.25;  // below weak_gamma 0.3 (not yet flagged by the risk's 0.2)
+    r.gamma[0] = 0.25;  // below weak_gamma 0.3: an axis the scan holds weakly...
     r.gamma[5] = 0.1;
+    r.cov = Mat6d::Identity() * 0.03 * 0.03;  // ...but the pose is known to 3 cm (IMU, odom_alt)
+    r.cov.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * std::pow(0.2 * kDeg, 2);
+    HealthChecks checks;
+    EXPECT_EQ(h.classify(r, &why, &checks), Health::Ok);
+    EXPECT_TRUE(checks.weak[0] && checks.weak[5] && !checks.weak[1]);  // reported all the same
+    // The pose's std above [health] max_sigma_xyz (0.1 m) along any direction, or its rotation's
+    // above max_sigma_deg (1 deg): degraded.
+    const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized();
+    r.cov.topLeftCorner<3, 3>() += 0.12 * 0.12 * u * u.transpose();
     EXPECT_EQ(h.classify(r, &why), Health::Degraded);
-    EXPECT_EQ(why, "weak_x_yaw");
+    EXPECT_EQ(why, "sigma_xyz");
+    r.cov.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
+    r.cov(5, 5) = std::pow(1.5 * kDeg, 2);
+    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(why, "sigma_rot");
     r = tracked(0.9);
     r.used_imu = true;
     r.pred_dxyz = 0.5;
@@ -103,6 +117,9 @@ TEST(Health, ParamsValidate) {
     EXPECT_ANY_THROW(p.validate());
     p = HealthParams{};
     p.max_drift_deg = 0;
+    EXPECT_ANY_THROW(p.validate());
+    p = HealthParams{};
+    p.max_sigma_xyz = 0;
     EXPECT_ANY_THROW(p.validate());
 }
 
@@ -209,8 +226,8 @@ TEST(Health, EvidenceFromTheRecovery) {
     FrameReport ok = tracked(0.9);
     h.assessFrame(ok);
     ASSERT_EQ(ok.health, Health::Ok);
-    FrameReport weak = tracked(0.9);
-    weak.gamma[1] = 0.1;
+    FrameReport weak = tracked(0.9);  // degraded for its own reason: a pose std of 20 cm
+    weak.cov.diagonal() << 0.2 * 0.2, 0.01 * 0.01, 0.01 * 0.01, 1e-6, 1e-6, 1e-6;
     h.assessFrame(weak);
     ASSERT_EQ(weak.health, Health::Degraded);
 
@@ -230,7 +247,7 @@ TEST(Health, EvidenceFromTheRecovery) {
 
     r = weak;
     h.amend(r, HealthEvidence::Unconfirmed);
-    EXPECT_EQ(r.health_reason, "weak_y") << "a degraded frame keeps its own reasons";
+    EXPECT_EQ(r.health_reason, "sigma_xyz") << "a degraded frame keeps its own reasons";
     h.amend(r, HealthEvidence::Confirmed);
     EXPECT_EQ(r.health, Health::Degraded) << "only an unconfirmed frame is confirmed back to ok";
 
@@ -240,7 +257,7 @@ TEST(Health, EvidenceFromTheRecovery) {
     EXPECT_EQ(r.health_reason, "start_ambiguous");
     r = weak;
     h.amend(r, HealthEvidence::StartAmbiguous);
-    EXPECT_EQ(r.health_reason, "weak_y");
+    EXPECT_EQ(r.health_reason, "sigma_xyz");
 
     // assessFrame measures the solved pose against the prediction first.
     FrameReport moved = tracked(0.9);

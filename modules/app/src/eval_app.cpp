@@ -33,7 +33,7 @@ void defineCommandLine(CLI::App& cli, EvalApp& app, EvalFlags& f) {
     cli.add_option("--est-map", app.est_map_path, "localized map (.pcd/.ply/...), with --gt-map: map outlier %");
     cli.add_option("--gt-map", app.gt_map_path, "ground-truth map")->needs("--est-map");
     cli.get_option("--est-map")->needs("--gt-map");
-    cli.add_option("--frames", app.frames_path, "the localizer's frames.csv: timing, gamma plot")->type_name("CSV");
+    cli.add_option("--frames", app.frames_path, "the localizer's frames.csv: timing, gamma plot, health against the error, the covariance's NEES\n(and trajectory_cov.txt beside it: the full 6 x 6)")->type_name("CSV");
     cli.add_option("--json", app.json_path, "write all metrics (and F1 curves) as JSON");
     cli.add_option("--plots", app.plots_dir, "write trajectory.svg, f1_trans.svg, f1_rot.svg (+ gamma.svg)")
         ->type_name("DIR");
@@ -118,6 +118,7 @@ int EvalApp::run(std::ostream& out) {
                       f1CurvesSvg({{"estimate", r.rr}}, true, "Robustness F1 (rotation)"));
         if (frames.has_gamma)
             writeTextFile(p("gamma.svg"), gammaTimelineSvg(frames, 0.2, "Confidence γ per axis"));
+        if (r.consistency) writeTextFile(p("nees.svg"), neesTimelineSvg(*r.consistency, "Covariance consistency"));
     }
     return 0;
 }

@@ -72,6 +72,37 @@ std::string gammaTimelineSvg(const eval::FrameLog& log, double threshold, const 
     return stackSvg(panels);
 }
 
+std::string neesTimelineSvg(const eval::Consistency& c, const std::string& title) {
+    std::vector<SvgPlot> panels;
+    const double t0 = c.t.empty() ? 0 : c.t.front();
+    const double t1 = c.t.empty() ? 1 : c.t.back();
+    std::vector<double> ts;
+    for (double t : c.t) ts.push_back(t - t0);
+    const struct {
+        const std::vector<double>* v;
+        const char* name;
+        double dof, bound;
+    } rows[3] = {{&c.pos, "position (3 dof)", 3, eval::kChi2_3dof_95},
+                 {&c.rot, "rotation (3 dof)", 3, eval::kChi2_3dof_95},
+                 {&c.pose, "pose (6 dof)", 6, eval::kChi2_6dof_95}};
+    for (int k = 0; k < 3; ++k) {
+        if (rows[k].v->empty()) continue;
+        SvgPlot p(720, 170, k == 0 ? title + " — NEES, " + rows[k].name : std::string("NEES, ") + rows[k].name);
+        // log10 of NEES from 1e-3 to 1e3: a consistent run sits around the dof line.
+        p.setRange(0, std::max(t1 - t0, 1e-3), -3, 3);
+        std::vector<double> y;
+        for (double v : *rows[k].v) y.push_back(std::clamp(std::log10(std::max(v, 1e-6)), -3.0, 3.0));
+        p.axes("time since first frame [s]", "log10 NEES",
+               {{-2, "0.01"}, {-1, "0.1"}, {0, "1"}, {1, "10"}, {2, "100"}, {3, "1000"}});
+        p.hline(std::log10(rows[k].dof), "#2ca02c");
+        p.hline(std::log10(rows[k].bound), "#d62728");
+        p.polyline(ts, y, seriesColor(static_cast<size_t>(k)), 1.0);
+        p.legend({{"dof (consistent mean)", "#2ca02c"}, {"chi-square 95 %", "#d62728"}});
+        panels.push_back(p);
+    }
+    return stackSvg(panels);
+}
+
 std::string f1CurvesSvg(const std::vector<std::pair<std::string, eval::RobustnessCurve>>& curves,
                         bool rotation, const std::string& title) {
     SvgPlot plot(640, 400, title);

@@ -33,6 +33,79 @@ HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, con
     return c;
 }
 
+Consistency consistency(const Trajectory& est, const Trajectory& gt, const FrameLog& frames, double assoc_tolerance) {
+    Consistency c;
+    c.full = frames.has_cov6;
+    const Association a = associate(est, gt, assoc_tolerance);
+    const size_t n = std::min(est.size(), frames.frames.size());
+    size_t in_pos = 0, in_rot = 0, in_pose = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const FrameRecord& f = frames.frames[i];
+        if (f.health == "lost" || !f.cov_pos || i >= a.gt_of_est.size() || a.gt_of_est[i] == SIZE_MAX) continue;
+        const SE3d& T = est[i].pose;
+        const SE3d& G = gt[a.gt_of_est[i]].pose;
+        const Vec3d ep = T.translation() - G.translation();
+        const Vec3d er_map = logSO3(T.linear() * G.linear().transpose());
+        Mat6d C;
+        if (f.cov6) {
+            C = *f.cov6;
+        } else {
+            // Rotation about the pose's own axes, diagonal: turned into the map's.
+            const Mat3d R = T.linear();
+            C.setZero();
+            C.topLeftCorner<3, 3>() = *f.cov_pos;
+            C.bottomRightCorner<3, 3>() = R * (f.sigma_rot_deg->array() * kDeg).square().matrix().asDiagonal() * R.transpose();
+        }
+        const auto nees = [](const Eigen::MatrixXd& Cm, const Eigen::VectorXd& e) {
+            const Eigen::LDLT<Eigen::MatrixXd> ldlt{Cm};
+            if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0))
+                return std::numeric_limits<double>::infinity();
+            return double(e.dot(ldlt.solve(e)));
+        };
+        if (!(C.topLeftCorner<3, 3>().trace() > 0)) continue;  // a frame without a covariance
+        c.t.push_back(est[i].t);
+        c.pos.push_back(nees(C.topLeftCorner<3, 3>(), ep));
+        c.rot.push_back(nees(C.bottomRightCorner<3, 3>(), er_map));
+        in_pos += c.pos.back() <= kChi2_3dof_95;
+        in_rot += c.rot.back() <= kChi2_3dof_95;
+        if (c.full) {
+            Vec6d e;
+            e << ep, er_map;
+            c.pose.push_back(nees(C, e));
+            in_pose += c.pose.back() <= kChi2_6dof_95;
+        }
+    }
+    const auto mean = [](const std::vector<double>& v) {
+        double s = 0;
+        for (double x : v) s += x;
+        return v.empty() ? 0.0 : s / double(v.size());
+    };
+    c.anees_pos = mean(c.pos), c.anees_rot = mean(c.rot), c.anees_pose = mean(c.pose);
+    const double nf = std::max<double>(1, double(c.pos.size()));
+    c.under95_pos = in_pos / nf, c.under95_rot = in_rot / nf, c.under95_pose = c.full ? in_pose / nf : 0;
+    return c;
+}
+
+io::Json toJson(const Consistency& c, bool with_series) {
+    io::Json j = {{"frames", c.frames()},
+                  {"full_6x6", c.full},
+                  {"anees_position", c.anees_pos},
+                  {"anees_rotation", c.anees_rot},
+                  {"under95_position", c.under95_pos},
+                  {"under95_rotation", c.under95_rot}};
+    if (c.full) {
+        j["anees_pose"] = c.anees_pose;
+        j["under95_pose"] = c.under95_pose;
+    }
+    if (with_series) {
+        j["t"] = c.t;
+        j["nees_position"] = c.pos;
+        j["nees_rotation"] = c.rot;
+        if (c.full) j["nees_pose"] = c.pose;
+    }
+    return j;
+}
+
 double RiskPrediction::Counts::precision() const {
     return tp + fp > 0 ? double(tp) / double(tp + fp) : std::numeric_limits<double>::quiet_NaN();
 }
@@ -105,6 +178,7 @@ EvalResult evaluate(const Trajectory& est, const Trajectory& gt, const EvalParam
         r.degenerate_frame_percent = 100.0 * double(flagged) / double(frames->frames.size());
         if (frames->has_health) r.health = healthConfusion(est, gt, *frames, params.assoc_tolerance);
         if (frames->has_rules) r.risk = riskPrediction(est, gt, *frames, params);
+        if (frames->has_cov) r.consistency = consistency(est, gt, *frames, params.assoc_tolerance);
     }
     return r;
 }
@@ -204,6 +278,7 @@ io::Json toJson(const EvalResult& r, bool with_curves) {
         j["health"] = h;
     }
     if (r.risk) j["risk_prediction"] = toJson(*r.risk);
+    if (r.consistency) j["consistency"] = toJson(*r.consistency, with_curves);
     return j;
 }
 
@@ -242,6 +317,17 @@ std::string summaryMarkdown(const EvalResult& r) {
             row(std::string("health ") + kHealthStates[st] + ": frames < 0.1 m / 0.1-0.5 m / > 0.5 m or 5 deg",
                 std::to_string(c[0]) + " / " + std::to_string(c[1]) + " / " + std::to_string(c[2]));
         }
+    }
+    if (r.consistency) {
+        const auto& c = *r.consistency;
+        row("consistency: frames / ANEES position, rotation" + std::string(c.full ? ", pose" : "") +
+                " (dof 3, 3" + (c.full ? ", 6" : "") + ")",
+            std::to_string(c.frames()) + " / " + fmt("%.2f", c.anees_pos) + ", " + fmt("%.2f", c.anees_rot) +
+                (c.full ? ", " + fmt("%.2f", c.anees_pose) : ""));
+        row("consistency: frames under the chi-square 95 % bound [%] position, rotation" +
+                std::string(c.full ? ", pose" : ""),
+            fmt("%.1f", 100 * c.under95_pos) + ", " + fmt("%.1f", 100 * c.under95_rot) +
+                (c.full ? ", " + fmt("%.1f", 100 * c.under95_pose) : ""));
     }
     if (r.risk)
         s += "\nRisk as a failure predictor (" + std::to_string(r.risk->frames) +

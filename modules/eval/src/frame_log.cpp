@@ -1,6 +1,7 @@
 #include <superloc/core/config.h>
 #include <superloc/eval/frame_log.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -58,6 +59,10 @@ FrameLog loadFrameLog(const std::string& path) {
         log.has_gamma &= col.count(std::string("gamma_") + kAxisNames[k]) > 0;
 
     log.has_health = col.count("health") > 0;
+    static const char* kCov[9] = {"cov_xx", "cov_xy", "cov_xz", "cov_yy", "cov_yz", "cov_zz",
+                                  "sigma_roll", "sigma_pitch", "sigma_yaw"};
+    log.has_cov = true;
+    for (const char* c : kCov) log.has_cov &= col.count(c) > 0;
     log.has_rules = true;
     for (const char* c : kRuleColumns) log.has_rules &= col.count(c) > 0;
     size_t lineno = 1;
@@ -95,12 +100,46 @@ FrameLog loadFrameLog(const std::string& path) {
             if (f.health != "ok" && f.health != "degraded" && f.health != "lost")
                 throw std::runtime_error(where + "column 'health' is '" + f.health + "' (ok, degraded or lost)");
         }
+        if (log.has_cov) {
+            Mat3d P;
+            P << number("cov_xx"), number("cov_xy"), number("cov_xz"), 0, number("cov_yy"), number("cov_yz"), 0, 0,
+                number("cov_zz");
+            P(1, 0) = P(0, 1), P(2, 0) = P(0, 2), P(2, 1) = P(1, 2);
+            f.cov_pos = P;
+            f.sigma_rot_deg = Vec3d(number("sigma_roll"), number("sigma_pitch"), number("sigma_yaw"));
+        }
         // Per-stage times only from rows whose cell count matches the header (a free-text
         // column holding a comma would shift them); t, gamma and ms_total come first.
         for (const auto& [name, k] : col)
             if (name.rfind("ms_", 0) == 0 && (name == "ms_total" || cells.size() == header.size()))
                 log.stage_ms[name].push_back(number(name));
         log.frames.push_back(f);
+    }
+    // The full covariances beside it (RunOutputs' trajectory_cov.txt), taken only when they are
+    // the frames' own, line for line.
+    const std::filesystem::path covp = std::filesystem::path(path).parent_path() / "trajectory_cov.txt";
+    std::ifstream cin(covp);
+    if (cin && !log.frames.empty()) {
+        std::vector<Mat6d> covs;
+        std::string l;
+        size_t ln = 0;
+        while (std::getline(cin, l)) {
+            ++ln;
+            if (l.empty() || l[0] == '#') continue;
+            std::istringstream is(l);
+            double t;
+            Mat6d C;
+            bool ok = static_cast<bool>(is >> t);
+            for (int i = 0; i < 36 && ok; ++i) ok = static_cast<bool>(is >> C(i / 6, i % 6));
+            if (!ok || covs.size() >= log.frames.size() || std::abs(t - log.frames[covs.size()].t) > 1e-6)
+                throw std::runtime_error(covp.string() + ":" + std::to_string(ln) +
+                                         ": not the covariance of frames.csv's frame (t and 36 numbers, same times)");
+            covs.push_back(C);
+        }
+        if (covs.size() == log.frames.size()) {
+            for (size_t i = 0; i < covs.size(); ++i) log.frames[i].cov6 = covs[i];
+            log.has_cov6 = true;
+        }
     }
     return log;
 }

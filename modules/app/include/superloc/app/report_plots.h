@@ -2,6 +2,7 @@
 #pragma once
 
 #include <superloc/core/types.h>
+#include <superloc/eval/evaluation.h>
 #include <superloc/eval/frame_log.h>
 #include <superloc/eval/robustness.h>
 
@@ -21,6 +22,9 @@ std::string trajectoryTopViewSvg(const Trajectory& gt, const Trajectory& est,
 /// Gamma per axis over time: six stacked panels, the degenerate threshold dashed, the frames the
 /// localizer flagged degenerate on that axis shaded.
 std::string gammaTimelineSvg(const eval::FrameLog& log, double threshold, const std::string& title);
+/// NEES per frame over time (position, rotation, the full pose when known) on a log scale, with
+/// the dof (a consistent average) and the chi-square 95 % bound (eval::Consistency).
+std::string neesTimelineSvg(const eval::Consistency& c, const std::string& title);
 
 /// F1(tau) curves of several runs against the strictness T (tau = exp(-10 T)); `rotation` only
 /// changes the axis label. Each entry: (name, curve).

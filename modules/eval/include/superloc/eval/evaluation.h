@@ -33,6 +33,26 @@ inline constexpr const char* kErrorBuckets[3] = {"< 0.1 m", "0.1-0.5 m", "> 0.5 
 HealthConfusion healthConfusion(const Trajectory& est, const Trajectory& gt, const FrameLog& frames,
                                 double assoc_tolerance);
 
+/// Consistency of the pose covariance against ground truth (doc/evaluation.md, "Consistency"):
+/// per frame that has a covariance, is not lost and has a GT pose, the normalized estimation
+/// error squared NEES = e^T C^-1 e of the position (3 dof: e = t_est - t_gt in the map frame),
+/// the rotation (3 dof: e = Log(R_est R_gt^T), about the map's axes with the 6 x 6 of
+/// trajectory_cov.txt; about the pose's own axes with frames.csv's sigma_* alone) and the full
+/// pose (6 dof, needs the 6 x 6). A consistent covariance gives an average (ANEES) near the dof
+/// and 95 % of frames under the chi-square 95 % bound (7.81 for 3 dof, 12.59 for 6).
+struct Consistency {
+    std::vector<double> t, pos, rot, pose;  ///< per frame (pose: empty without the 6 x 6)
+    double anees_pos = 0, anees_rot = 0, anees_pose = 0;
+    double under95_pos = 0, under95_rot = 0, under95_pose = 0;  ///< share of frames under the bound
+    bool full = false;  ///< from the 6 x 6 covariances (else rotation from the diagonal stds)
+    size_t frames() const { return pos.size(); }
+};
+inline constexpr double kChi2_3dof_95 = 7.815;
+inline constexpr double kChi2_6dof_95 = 12.592;
+/// The table of a run whose frame log has the covariance columns (frames[i] is est[i]).
+Consistency consistency(const Trajectory& est, const Trajectory& gt, const FrameLog& frames, double assoc_tolerance);
+io::Json toJson(const Consistency& c, bool with_series);
+
 /// Risk as a failure predictor (issue: "Risk as a measured failure predictor"): per rule of
 /// frames.csv (kRuleColumns) and axis, the frames flagged against the frames that failed along
 /// that axis. The error of a frame is E = T_gt^-1 T_est, in the GT pose's own axes (the
@@ -72,6 +92,7 @@ struct EvalResult {
     std::optional<double> degenerate_frame_percent;  ///< [%] frames with any axis flagged
     std::optional<HealthConfusion> health;           ///< when the frame log has a health column
     std::optional<RiskPrediction> risk;              ///< when the frame log has the rule columns
+    std::optional<Consistency> consistency;          ///< when the frame log has the covariance columns
 };
 
 /// Evaluates one run. `est_map`/`gt_map` and `frames` may be null.

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,12 @@ struct FrameRecord {
     /// The flags_labels1, flags_labels2, flags_eigen columns (risk::RiskReport::RuleFlags) and
     /// `degenerate` (the estimate's weak directions, the decision), in kRuleColumns order.
     std::array<std::array<bool, 6>, 4> rule_flags{};
+    /// The pose's covariance: the position block in the map frame [m^2] (cov_xx ... cov_zz) and
+    /// the rotation's std about the pose's own axes [deg] (sigma_roll ... sigma_yaw); the full
+    /// 6 x 6 (ROS convention) from trajectory_cov.txt beside frames.csv when it is there.
+    std::optional<Mat3d> cov_pos;
+    std::optional<Vec3d> sigma_rot_deg;
+    std::optional<Mat6d> cov6;
 };
 
 /// The failure-prediction rules of frames.csv, in FrameRecord::rule_flags order: their column
@@ -36,6 +43,8 @@ struct FrameLog {
     bool has_gamma = false;  ///< the file had the six gamma_* columns
     bool has_health = false;  ///< the file had the `health` column
     bool has_rules = false;   ///< the file had the flags_* columns and `degenerate`
+    bool has_cov = false;     ///< the file had the cov_* and sigma_* columns
+    bool has_cov6 = false;    ///< trajectory_cov.txt beside it gave every frame its 6 x 6
 };
 
 /// Parses the `degenerate` column ("x", "xyaw", "rollpitch", "" ...) into flags; throws
@@ -43,7 +52,9 @@ struct FrameLog {
 std::array<bool, 6> parseDegenerateAxes(const std::string& letters);
 
 /// Reads frames.csv: a header row naming the columns, then one row per frame. Required: `t` and
-/// `ms_total`; gamma_* and `degenerate` are used when present. Throws std::runtime_error
+/// `ms_total`; gamma_*, `degenerate` and the covariance columns are used when present, and
+/// trajectory_cov.txt in the same folder (one line per frame, t then 36 numbers) when its times
+/// are the frames'. Throws std::runtime_error
 /// "FILE:LINE: ..." on a missing file or column, or a malformed number.
 FrameLog loadFrameLog(const std::string& path);
 
