@@ -111,7 +111,7 @@ TEST(Config, UnknownSectionsAndSetSectionsAreErrors) {
         for (const auto& s : sets) applyOverride(c, s);
         return superloc::testing::errorOf([&] { checkSections(c, known, path, sets); });
     };
-    EXPECT_EQ(check("[run]\n[Map]\n[eval]\n[seq.a]\nk = 1\n", {"map.voxel=1", "seq.b.k=2"}), "");
+    EXPECT_EQ(check("[run]\n[Map]\n[eval]\n[seq.a]\nk = 1\n", {"map.voxel=1"}), "");
     EXPECT_EQ(check("[run]\n\n[rnu]\nk = 1\n", {}),
               path + ":3: unknown section [rnu] (superloc-x reads [run], [map], [seq.*])");
     EXPECT_EQ(check("[run]\n", {"mpa.voxel=1"}),

@@ -191,12 +191,15 @@ std::vector<BadInput> cases() {
     c.push_back({"LocalizeCorruptEntry", L,
                  [](const std::string& d) {
                      PlainRawlog r = plainRawlog();
-                     // The class name of the 6th scan's entry, bit-flipped.
-                     for (size_t k = 2; k < 8; ++k) r.bytes[r.scans.at(5).first + k] ^= 0x20;
+                     // One bit of the class name of the 6th scan's entry: CObservation... -> BObservation...
+                     // (its namespace is not checked: MRPT finds the class by its last part).
+                     const size_t at = r.bytes.find("CObservationPointCloud", r.scans.at(5).first);
+                     EXPECT_LT(at, r.scans.at(5).second);
+                     r.bytes[at] ^= 0x01;
                      write(d + "/flipped.rawlog", r.bytes);
                      return localize(d, "", {}, d + "/flipped.rawlog");
                  },
-                 1, {"flipped.rawlog: entry", "corrupt or truncated rawlog"}});
+                 1, {"flipped.rawlog: entry", "corrupt or truncated rawlog", "BObservationPointCloud"}});
     // ---- superloc-localize: the map, the initial pose, the outputs ----
     c.push_back({"LocalizeMissingMap", L,
                  [](const std::string& d) { return localize(d, "", {}, kRawlog, d + "/none.pcd"); }, 1,
@@ -266,7 +269,7 @@ std::vector<BadInput> cases() {
                  1, {"p.tum:3: timestamp 1.0 repeats line 2"}});
     c.push_back({"MapPcdShortLine", M,
                  [](const std::string& d) {
-                     write(d + "/in.pcd", kPcdHead + "1 2 3\n4 5\n7 8 9\n");
+                     write(d + "/in.pcd", kPcdHead + "1.25 2.25 3.25\n4.25 5.25\n7.25 8.25 9.25\n");
                      return std::vector<std::string>{"--from-map", d + "/in.pcd", "--out", d + "/m.pcd"};
                  },
                  1, {"in.pcd:13: 2 values", "say 3"}});
@@ -278,7 +281,7 @@ std::vector<BadInput> cases() {
                  1, {"in.pcd:15: more data lines than the header's 3 points"}});
     c.push_back({"MapPcdFewerLinesThanPoints", M,
                  [](const std::string& d) {
-                     write(d + "/in.pcd", kPcdHead + "1 2 3\n4 5 6\n");
+                     write(d + "/in.pcd", kPcdHead + "1.25 2.25 3.25\n4.25 5.25 6.25\n");
                      return std::vector<std::string>{"--from-map", d + "/in.pcd", "--out", d + "/m.pcd"};
                  },
                  1, {"in.pcd", "2 data lines for 3 points"}});
@@ -308,9 +311,9 @@ std::vector<BadInput> cases() {
                  1, {"voxel"}});
     c.push_back({"MapUnknownOutputFormat", M,
                  [](const std::string& d) {
-                     return std::vector<std::string>{"--rawlog", kRawlog, "--out", d + "/m.xyz"};
+                     return std::vector<std::string>{"--rawlog", kRawlog, "--out", d + "/m.las"};
                  },
-                 1, {"m.xyz"}});
+                 1, {"m.las", "unknown point-cloud extension"}});
     // ---- superloc-import ----
     c.push_back({"ImportSetUnknownSection", I,
                  [](const std::string& d) {
@@ -523,10 +526,11 @@ TEST(BadInput, TruncatedRawlogKeepsEveryFrameBeforeTheCut) {
     const auto [begin, end] = r.scans[9];
     write(d + "/cut.rawlog", r.bytes.substr(0, (begin + end) / 2));
     std::vector<std::string> argv = {appPath("superloc-localize")};
-    for (const auto& a : localize(d, "")) argv.push_back(a);
+    for (const auto& a : localize(d, "", {}, d + "/cut.rawlog")) argv.push_back(a);
     const auto p = superloc::app::runProcess(argv, d + "/log.txt", 120);
     const std::string log = slurp(d + "/log.txt");
     EXPECT_EQ(p.exit_code, 1) << log;
+    ASSERT_FALSE(lines(log).empty());
     EXPECT_NE(lines(log).back().find("cut.rawlog: entry"), std::string::npos) << log;
     EXPECT_EQ(dataRows(d + "/out/trajectory.tum", false), 9u) << log;
     EXPECT_EQ(dataRows(d + "/out/frames.csv", true), 9u) << log;

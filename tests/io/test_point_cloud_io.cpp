@@ -183,7 +183,7 @@ TEST(PointCloudIo, BadFilesGiveOneLineErrors) {
         "HEIGHT 1\nPOINTS 2\nDATA ascii\n";
     writeFile(dir + "/word.pcd", head + "1 2 3 4\n1 two 3 4\n");
     expectLoadError(dir + "/word.pcd", "word.pcd:11: 'two' is not a number");
-    writeFile(dir + "/short.pcd", head + "1 2 3\n1 2 3 4\n");
+    writeFile(dir + "/short.pcd", head + "1.5 2.5 3.5\n1.5 2.5 3.5 4.5\n");
     expectLoadError(dir + "/short.pcd", "short.pcd:10: 3 values, the header's FIELDS/COUNT say 4");
     writeFile(dir + "/more.pcd", head + "1 2 3 4\n\n5 6 7 8\n9 10 11 12\n");
     expectLoadError(dir + "/more.pcd", "more.pcd:13: more data lines than the header's 2 points");

@@ -108,12 +108,12 @@ int EvalApp::run(std::ostream& out) {
                  frames_path.empty() ? nullptr : &frames);
     // Nothing matched: every error statistic would be 0, a perfect score for no comparison.
     if (r.matched_frames == 0) {
-        char span[160];
-        std::snprintf(span, sizeof span, " (the estimate spans %.3f..%.3f s, the ground truth %.3f..%.3f s)",
-                      est.front().t, est.back().t, gt.front().t, gt.back().t);
-        throw std::runtime_error("no pose of " + est_path + " has a ground-truth pose of " + gt_path +
-                                 " within [eval] assoc_tolerance = " + std::to_string(params.assoc_tolerance) +
-                                 " s" + span);
+        char span[200];
+        std::snprintf(span, sizeof span,
+                      " within [eval] assoc_tolerance = %g s (the estimate spans %.3f..%.3f s, the ground truth "
+                      "%.3f..%.3f s)",
+                      params.assoc_tolerance, est.front().t, est.back().t, gt.front().t, gt.back().t);
+        throw std::runtime_error("no pose of " + est_path + " has a ground-truth pose of " + gt_path + span);
     }
     out << eval::summaryMarkdown(r);
     if (!json_path.empty()) io::saveJson(json_path, eval::toJson(r));

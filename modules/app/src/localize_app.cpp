@@ -157,6 +157,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     if (!rawlog.empty()) run_.rawlog = rawlog;
     if (!map.empty()) run_.map = map;
     if (!out.empty()) run_.out = out;
+    if (!pose.empty() && pose != "auto") parsePoseString(pose, "--initial-pose");  // named as given
     if (!pose.empty()) run_.initial_pose = pose, run_.initial_pose_tum.clear();
     if (!pose_tum.empty()) run_.initial_pose_tum = pose_tum, run_.initial_pose.clear();
     run_.validate();

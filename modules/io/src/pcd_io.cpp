@@ -198,9 +198,17 @@ void checkHeader(const std::string& path) {
                                  std::to_string(size - header_end) + " data bytes for " +
                                  std::to_string(w * ht) + " points)");
     // More data than POINTS says: PCL reads POINTS points and drops the rest without a word.
-    if (data == "binary" && step > 0 && size - header_end - need >= step)
-        throw bad("the data holds " + std::to_string((size - header_end) / step) + " points, POINTS / WIDTH x HEIGHT says " +
-                  std::to_string(w * ht));
+    // (PCL's own binary writer pads the file with zero bytes: those are not data.)
+    if (data == "binary" && step > 0 && size - header_end - need >= step) {
+        in.clear();
+        in.seekg(header_end + need);
+        char c = 0;
+        while (in.get(c) && c == 0) {
+        }
+        if (in)
+            throw bad("the data holds " + std::to_string((size - header_end) / step) +
+                      " points, POINTS / WIDTH x HEIGHT says " + std::to_string(w * ht));
+    }
     if (data == "ascii") checkAsciiData(path, header_end, lineno, values, w * ht);
 }
 

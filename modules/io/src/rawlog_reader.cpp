@@ -159,12 +159,19 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
     /// own loop, because CRawlog's prints a trace and reports a corrupt file as a clean end.
     void readEntry() {
         mrpt::serialization::CSerializable::Ptr obj;
+        const uint64_t start = file.getPosition();
         try {
             auto arch = mrpt::serialization::archiveFrom(file);
             arch >> obj;
         } catch (const mrpt::serialization::CExceptionEOF&) {
-            eof = true;  // clean end: nothing left before the next object's header
-            return;
+            // The end of the file before the next object's header is a clean end; inside an
+            // object (bytes of it were read), the file was cut.
+            if (file.getPosition() == start) {
+                eof = true;
+                return;
+            }
+            ++entry;
+            throw std::runtime_error(where() + "corrupt or truncated rawlog: the file ends inside this entry");
         } catch (const std::exception& e) {
             ++entry;
             if (entry == 1 && !gzipped)
@@ -174,6 +181,8 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
             // MRPT's guess for a bad object header, misleading here (the reader reads both).
             const size_t hint = why.find(" Perhaps it's a gz-compressed stream?");
             if (hint != std::string::npos) why.erase(hint);
+            for (char& c : why)  // a corrupt class name is raw bytes
+                if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
             throw std::runtime_error(where() + "corrupt or truncated rawlog: " + why);
         }
         ++entry;
