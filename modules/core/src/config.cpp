@@ -187,7 +187,7 @@ void checkIniText(const std::string& text, const std::string& source) {
         }
         const size_t eq = s.find('=');
         if (eq == std::string::npos)
-            throw ConfigError(where + "'" + s + "' is not key = value" +
+            throw ConfigError(where + "'" + s.substr(0, 80) + "' is not key = value" +
                               (in_section ? " (in section [" + section + "])" : ""));
         const std::string key = trim(s.substr(0, eq));
         if (key.empty()) throw ConfigError(where + "'" + s + "' has no key before '='");
