@@ -7,6 +7,7 @@
 // gets its cases here.
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <nlohmann/json.hpp>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/obs/CObservationPointCloud.h>
 #include <mrpt/serialization/CArchive.h>
@@ -471,6 +472,13 @@ std::vector<BadInput> cases() {
                      return std::vector<std::string>{suite(d, "[evl]\nassoc_tolerance = 0.1\n"), "--out", d + "/b"};
                  },
                  1, {"suite.ini:5: unknown section [evl]"}});
+    c.push_back({"BenchFractionalSeed", B,
+                 [suite](const std::string& d) {
+                     std::string path = suite(d, "");
+                     std::ofstream(path, std::ios::app) << "seed = 2.5\n";
+                     return std::vector<std::string>{path, "--out", d + "/b"};
+                 },
+                 1, {"suite.ini: [seq.office] seed = '2.5' is not a seed"}});
     c.push_back({"BenchSuiteLocalizeSetBadKey", B,
                  [suite](const std::string& d) {
                      return std::vector<std::string>{suite(d, "localize_set = localization.metod=icp\n"), "--out",
@@ -559,6 +567,19 @@ TEST(BadInput, TinyVoxelMapKeepsEveryPoint) {
         return std::stoul(pcd.substr(at + 8));
     };
     EXPECT_EQ(points(tiny), points(all));
+    // The localizer's map filter ([map] voxel_size) the same: as many map points as with 0.
+    std::vector<size_t> map_points;
+    for (const char* v : {"0", "1e-9"}) {
+        std::vector<std::string> argv = {appPath("superloc-localize")};
+        for (const auto& a : localize(d + "/" + v, "", {"--set", std::string("map.voxel_size=") + v}))
+            argv.push_back(a);
+        const auto p = superloc::app::runProcess(argv, d + "/loc.txt", 120);
+        ASSERT_EQ(p.exit_code, 0) << slurp(d + "/loc.txt");
+        const auto summary = nlohmann::json::parse(slurp(d + "/" + v + "/out/summary.json"));
+        map_points.push_back(summary.at("map_points").get<size_t>());
+    }
+    EXPECT_EQ(map_points[1], map_points[0]);
+    EXPECT_EQ(map_points[0], points(slurp(kMap)));
 }
 
 }  // namespace

@@ -102,6 +102,10 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
             q.kind = SequenceSpec::Kind::Sim;
             q.config = existing(base / value(c, sec, "config"), where + " config");
             q.seed = static_cast<int>(number(c, sec, "seed", 1, path));
+            if (long long whole = 0; !value(c, sec, "seed").empty() &&
+                                     (!parseInteger(value(c, sec, "seed"), whole) || whole < 0))
+                throw ConfigError(where + " seed = '" + value(c, sec, "seed") +
+                                  "' is not a seed (a whole number >= 0)");
             q.sim_sets = splitWords(value(c, sec, "sim_set"));
         } else if (type == "kitti" || type == "pcd") {
             q.kind = type == "kitti" ? SequenceSpec::Kind::Kitti : SequenceSpec::Kind::PcdDir;
