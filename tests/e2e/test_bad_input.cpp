@@ -450,6 +450,21 @@ std::vector<BadInput> cases() {
                      return std::vector<std::string>{d + "/s.ini", "--out", d + "/sim"};
                  },
                  1, {"s.ini:3: unknown section [ofice]"}});
+    const auto sim = [](std::vector<std::string> extra) {
+        return [extra](const std::string& d) {
+            std::vector<std::string> a = {sourcePath("ini/sim/office.ini"), "--out", d + "/sim"};
+            a.insert(a.end(), extra.begin(), extra.end());
+            return a;
+        };
+    };
+    c.push_back({"SimUnknownWorld", S, sim({"--set", "sim.world=mars"}), 1, {"office.ini: [sim] world = 'mars' is unknown"}});
+    c.push_back({"SimMissingPreset", S, sim({"--set", "lidar.preset=nothere.ini"}), 1,
+                 {"[lidar] preset = 'nothere.ini': file not found"}});
+    c.push_back({"SimNegativeDuration", S, sim({"--set", "sim.duration=-1"}), 1, {"[sim] duration must be in"}});
+    c.push_back({"SimSeedNotANumber", S, sim({"--seed", "abc"}), 1, {"--seed 'abc'"}});
+    c.push_back({"SimMissingConfig", S,
+                 [](const std::string& d) { return std::vector<std::string>{d + "/none.ini", "--out", d + "/sim"}; }, 1,
+                 {"none.ini: cannot open the configuration file"}});
     // ---- superloc-bench (case 7: an unknown method stops the suite before any run) ----
     const auto suite = [](const std::string& d, const std::string& body) {
         write(d + "/suite.ini", "[suite]\nmethods = icp\nsequences = office\nlocalize_config = " + kIni + "\n" + body +
