@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
+#include <superloc_testing/testing.h>
+
+#include <fstream>
 
 using namespace superloc;
 
@@ -52,6 +55,69 @@ TEST(Config, RejectsWrongTypes) {
     EXPECT_THROW(loadParams<DemoParams>(c2, "demo", "t.ini"), ConfigError);
     mrpt::config::CConfigFileMemory c3("[demo]\nvoxel = -1\n");
     EXPECT_THROW(loadParams<DemoParams>(c3, "demo", "t.ini"), ConfigError);
+}
+
+TEST(Config, WholeNumberKeysRejectFractions) {
+    struct IntParams : public mrpt::config::CLoadableOptions {
+        int rounds = 3;
+        double scale = 2.0;
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override {
+            MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
+            MRPT_LOAD_CONFIG_VAR(scale, double, c, s);
+        }
+        void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override {
+            MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "count");
+            MRPT_SAVE_CONFIG_VAR_COMMENT(scale, "[m]");
+        }
+        void validate() const {}
+    };
+    for (const char* bad : {"2000.7", "1e3", "3 rounds", "0x10", ""}) {
+        mrpt::config::CConfigFileMemory c(std::string("[demo]\nrounds = ") + bad + "\n");
+        const std::string m = superloc::testing::errorOf([&] { loadParams<IntParams>(c, "demo", "t.ini"); });
+        EXPECT_NE(m.find("t.ini: [demo] rounds = '"), std::string::npos) << bad << ": " << m;
+        EXPECT_NE(m.find("is not a whole number"), std::string::npos) << bad << ": " << m;
+    }
+    mrpt::config::CConfigFileMemory ok("[demo]\nrounds = -12 // c\nscale = 3\n");
+    EXPECT_EQ(loadParams<IntParams>(ok, "demo", "t.ini").rounds, -12);
+    EXPECT_DOUBLE_EQ(loadParams<IntParams>(ok, "demo", "t.ini").scale, 3.0);  // a real key takes "3"
+}
+
+// What MRPT's parser would take silently (issue 36): each is an error naming file and line.
+TEST(Config, IniTextErrorsNameFileAndLine) {
+    const auto error = [](const std::string& text) {
+        return superloc::testing::errorOf([&] { checkIniText(text, "f.ini"); });
+    };
+    EXPECT_EQ(error("[localization\nmethod = icp\n"),
+              "f.ini:1: section header '[localization' has no closing ']'");
+    EXPECT_EQ(error("; c\nmethod = icp\n[localization]\n"), "f.ini:2: key 'method' before any [section]");
+    EXPECT_EQ(error("[a]\nx = 1\n[b]\nx = 2\n[A]\nX = 3\n"),
+              "f.ini:6: [A] X is given twice (also on line 2): keep one");
+    EXPECT_EQ(error("[a]\nx 1\n"), "f.ini:2: 'x 1' is not key = value (in section [a])");
+    EXPECT_EQ(error("[]\n"), "f.ini:1: section header '[]' has no name");
+    EXPECT_EQ(error("[a] b\n"), "f.ini:1: text after the section header '[a] b'");
+    EXPECT_EQ(error("[a]\n= 1\n"), "f.ini:2: '= 1' has no key before '='");
+    // Fine: comments anywhere, blank lines, CRLF, MRPT's @define, a comment after a header.
+    EXPECT_EQ(error("# c\r\n\n@define N 3\n[a] ; c\r\n  x = ${N} // c\n// c\n[b]\nx = 2\n"), "");
+}
+
+TEST(Config, UnknownSectionsAndSetSectionsAreErrors) {
+    const std::string dir = superloc::testing::freshDir("config_sections");
+    const std::string path = dir + "/a.ini";
+    const IniSections known{"superloc-x", {"run", "map"}, {"eval"}, {"seq."}};
+    const auto check = [&](const std::string& text, const std::vector<std::string>& sets) {
+        std::ofstream(path) << text;
+        mrpt::config::CConfigFileMemory c;
+        loadIniFile(c, path);
+        for (const auto& s : sets) applyOverride(c, s);
+        return superloc::testing::errorOf([&] { checkSections(c, known, path, sets); });
+    };
+    EXPECT_EQ(check("[run]\n[Map]\n[eval]\n[seq.a]\nk = 1\n", {"map.voxel=1"}), "");
+    EXPECT_EQ(check("[run]\n\n[rnu]\nk = 1\n", {}),
+              path + ":3: unknown section [rnu] (superloc-x reads [run], [map], [seq.*])");
+    EXPECT_EQ(check("[run]\n", {"mpa.voxel=1"}),
+              "--set 'mpa.voxel=1': superloc-x has no section [mpa] (it reads [run], [map], [seq.*])");
+    // A section another app reads is fine in the file, not in a --set of this app.
+    EXPECT_NE(check("[run]\n", {"eval.align=true"}).find("no section [eval]"), std::string::npos);
 }
 
 TEST(Config, OverrideSyntax) {

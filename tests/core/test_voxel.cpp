@@ -17,3 +17,31 @@ TEST(Voxel, OnePointPerOccupiedCellNearestCentroid) {
     EXPECT_FLOAT_EQ(d.intensity[2], 5);
     EXPECT_EQ(voxelDownsample(c, 0.f).size(), 5u);
 }
+
+// Issue 36: a voxel far below the points' spacing keeps every point. With 32-bit indices,
+// floor(10 m / 1e-9 m) overflowed and distant points shared a voxel.
+TEST(Voxel, TinyVoxelKeepsDistantPointsApart) {
+    PointCloud c;
+    c.points = {{10.f, 0.f, 0.f}, {20.f, 0.f, 0.f}, {-30.f, 5.f, 1.f}, {10.f, 0.5f, 0.f}};
+    EXPECT_EQ(voxelDownsample(c, 1e-9f).size(), 4u);
+    const VoxelKey a = voxelKey(c.points[0], 1e-9f), b = voxelKey(c.points[1], 1e-9f);
+    EXPECT_FALSE(a == b);
+    EXPECT_GT(a.x, int64_t{1} << 33);
+    // The keys of ordinary voxels are what they were.
+    EXPECT_EQ(voxelKey({-0.1f, 0.7f, 2.5f}, 0.5f).x, -1);
+    EXPECT_EQ(voxelKey({-0.1f, 0.7f, 2.5f}, 0.5f).y, 1);
+    EXPECT_EQ(voxelKey({-0.1f, 0.7f, 2.5f}, 0.5f).z, 5);
+}
+
+TEST(Voxel, AnIndexBeyond62BitsIsAnErrorNamingTheVoxel) {
+    PointCloud c;
+    c.points = {{1e7f, 0.f, 0.f}, {0.f, 0.f, 0.f}};
+    try {
+        voxelDownsample(c, 1e-15f);
+        ADD_FAILURE() << "no error";
+    } catch (const std::invalid_argument& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("voxel size 1e-15 m is too small"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+}

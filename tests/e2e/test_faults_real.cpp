@@ -167,8 +167,8 @@ TEST_F(FaultsReal, KittiNanFloodedScan) {
 }
 
 // (4) kitti00-mini: a scan stamped 1 s early (beyond the 0.5 s reorder window): exit 1 with one
-// line naming the file, the entry and the jump; the frames before it are written (every scan
-// older than the newest item read minus the window), summary.json says "failed".
+// line naming the file, the entry and the jump; every scan read before it is localized and
+// written (the reader empties its re-sort window first), summary.json says "failed".
 TEST_F(FaultsReal, KittiBackwardsTimestamp) {
     if (!prepare("kitti00-mini", 0.2)) GTEST_SKIP() << "no kitti00-mini";
     const auto t = oddTimes();
@@ -185,11 +185,11 @@ TEST_F(FaultsReal, KittiBackwardsTimestamp) {
     report("kitti backwards", r);
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.stderr_text.find("timestamp goes backwards"), std::string::npos) << r.stderr_text;
-    // The reader had emitted the scans older than the newest item before the bad one (the gt of
-    // the even scan after odd scan 4) by more than the 0.5 s window.
+    // Every odd scan written before the bad one (the reader returns its 0.5 s window before the
+    // error; it used to drop it and keep 3).
     size_t expected = 0;
-    while (t.at(expected) < t_newest - 0.5) ++expected;
-    EXPECT_EQ(expected, 3u);
+    while (t.at(expected) <= t_newest) ++expected;
+    EXPECT_EQ(expected, 5u);
     ASSERT_EQ(r.trajectory.size(), expected);
     for (size_t i = 0; i < expected; ++i) EXPECT_TRUE(at(r.trajectory[i].t, t[i]));
     EXPECT_EQ(r.summary.at("status"), "failed");

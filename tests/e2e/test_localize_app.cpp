@@ -182,7 +182,7 @@ TEST_F(KittiFixture, CommandLineContract) {
     fails({"--bogus"}, "--bogus");
     fails({"--set", "localization.max_corr_dst=1"}, "max_corr_dst");
     fails({"--set", "features.voxel_size=abc"}, "voxel_size");
-    fails({"--initial-pose", "1 2 3"}, "initial_pose");
+    fails({"--initial-pose", "1 2 3"}, "--initial-pose = '1 2 3'");  // named as given
     fails({"--rawlog", dir + "/missing.rawlog"}, "missing.rawlog");
     fails({"--map", dir + "/missing.pcd"}, "missing.pcd");
     fails({"--method", "gicp"}, "gicp");

@@ -6,6 +6,7 @@
 #include <superloc/io/tum.h>
 #include <superloc_testing/testing.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -129,4 +130,28 @@ TEST(Importers, BadInputsGiveOneLineErrors) {
     std::ofstream(tmp + "/two_times.txt") << "0\n0.1\n";
     expectImportError([&] { importPcdFolder(tmp + "/pcds", "", tmp + "/two_times.txt", out); },
                       "1.pcd");
+}
+
+// Issue 36: a scan file with no valid point (empty, or all NaN) is not written as a scan (the
+// reader would skip it); it is counted, with the first such file named, for the app's warning.
+TEST(Importers, EmptyScansAreCountedNotWritten) {
+    const auto tmp = freshDir("import_empty_scans");
+    fs::create_directories(tmp + "/k/velodyne");
+    const float p[4] = {1, 2, 3, 0.5f}, nan[4] = {NAN, 0, 0, 0};
+    std::ofstream(tmp + "/k/velodyne/000000.bin", std::ios::binary).write(reinterpret_cast<const char*>(p), 16);
+    std::ofstream(tmp + "/k/velodyne/000001.bin", std::ios::binary);  // empty
+    std::ofstream(tmp + "/k/velodyne/000002.bin", std::ios::binary).write(reinterpret_cast<const char*>(nan), 16);
+    std::ofstream(tmp + "/k/velodyne/000003.bin", std::ios::binary).write(reinterpret_cast<const char*>(p), 16);
+    std::ofstream(tmp + "/k/times.txt") << "0\n0.1\n0.2\n0.3\n";
+    const ImportResult r = importKitti(tmp + "/k", "", "", tmp + "/o.rawlog");
+    EXPECT_EQ(r.scans, 2u);
+    EXPECT_EQ(r.empty_scans, 2u);
+    EXPECT_EQ(r.dropped_points, 1u);
+    EXPECT_NE(r.first_empty.find("000001.bin"), std::string::npos) << r.first_empty;
+    RawlogReader reader(tmp + "/o.rawlog");
+    RawlogItem it;
+    std::vector<double> t;
+    while (reader.next(it)) t.push_back(it.time());
+    EXPECT_EQ(t, (std::vector<double>{0.0, 0.3}));
+    EXPECT_EQ(reader.stats().empty_scans, 0u);
 }

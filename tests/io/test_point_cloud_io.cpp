@@ -176,6 +176,19 @@ TEST(PointCloudIo, BadFilesGiveOneLineErrors) {
     expectLoadError(dir + "/huge.pcd", "truncated");
     writeFile(dir + "/bad.txt", "1 2 3\n4 five 6\n");
     expectLoadError(dir + "/bad.txt", ":2:");
+    // ASCII PCD data (issue 36): PCL reads a word as 0 and pads a short line with zeros (a point
+    // at the origin), and drops the lines past POINTS; each is an error naming file and line.
+    const std::string head =
+        "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 2\n"
+        "HEIGHT 1\nPOINTS 2\nDATA ascii\n";
+    writeFile(dir + "/word.pcd", head + "1 2 3 4\n1 two 3 4\n");
+    expectLoadError(dir + "/word.pcd", "word.pcd:11: 'two' is not a number");
+    writeFile(dir + "/short.pcd", head + "1.5 2.5 3.5\n1.5 2.5 3.5 4.5\n");
+    expectLoadError(dir + "/short.pcd", "short.pcd:10: 3 values, the header's FIELDS/COUNT say 4");
+    writeFile(dir + "/more.pcd", head + "1 2 3 4\n\n5 6 7 8\n9 10 11 12\n");
+    expectLoadError(dir + "/more.pcd", "more.pcd:13: more data lines than the header's 2 points");
+    writeFile(dir + "/nan.pcd", head + "nan nan nan 0\n1 2 3 4\n");  // PCL writes NaN as nan
+    EXPECT_EQ(loadPointCloud(dir + "/nan.pcd").size(), 1u);
 }
 
 TEST(PointCloudIo, ReadsRealPcdScanAndKittiBin) {

@@ -245,6 +245,41 @@ TEST(Rawlog, MissingTruncatedAndCorruptFiles) {
     }
 }
 
+// Issue 36: a read error comes after every item read before it. The reader holds the newest
+// reorder_window (0.5 s) back; those items used to be lost with the error.
+TEST(Rawlog, AReadErrorComesAfterEveryItemReadBeforeIt) {
+    const auto dir = freshDir("rawlog_error_after_items");
+    {
+        RawlogWriter w(dir + "/full.rawlog");
+        for (int i = 0; i < 20; ++i) w.writeScan(makeScan(0.1 * i, 2000));
+    }
+    std::string bytes;
+    {
+        std::ifstream in(dir + "/full.rawlog", std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::ofstream(dir + "/cut.rawlog", std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+    const auto scansBeforeError = [&](double window) {
+        RawlogParams p;
+        p.reorder_window = window;
+        RawlogReader r(dir + "/cut.rawlog", p);
+        std::vector<double> t;
+        RawlogItem it;
+        try {
+            while (r.next(it)) t.push_back(it.time());
+            ADD_FAILURE() << "no error";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find("cut.rawlog: entry"), std::string::npos) << e.what();
+        }
+        EXPECT_FALSE(r.next(it));  // then the end
+        return t;
+    };
+    const auto direct = scansBeforeError(0.0), windowed = scansBeforeError(0.5);
+    EXPECT_GE(direct.size(), 5u);
+    EXPECT_LT(direct.size(), 20u);
+    EXPECT_EQ(windowed, direct);
+}
+
 TEST(Rawlog, RealVelodyneScansHavePerPointTime) {
     SUPERLOC_REQUIRE_DATA("mrpt-velodyne");
     for (const char* f :

@@ -57,4 +57,7 @@ TEST(Tum, MalformedFilesNameFileAndLine) {
     expectTumError(dir + "/quat.tum", "quat.tum:1: quaternion");
     writeText(dir + "/extra.tum", "1 0 0 0 0 0 0 1 9\n");
     expectTumError(dir + "/extra.tum", "extra.tum:1: unexpected trailing");
+    // Two poses at one time (issue 36): which one an evaluation paired depended on the line order.
+    writeText(dir + "/twice.tum", "# t\n1 0 0 0 0 0 0 1\n\n1.000 2 0 0 0 0 0 1\n");
+    expectTumError(dir + "/twice.tum", "twice.tum:4: timestamp 1.000 repeats line 2");
 }

@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/app/bench_app.h>
 #include <superloc/app/command_line.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/app/process.h>
 #include <superloc/app/report_plots.h>
 #include <superloc/app/task_queue.h>
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -133,6 +135,7 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         suite.sequences = keep;
     }
     if (meth_given) suite.methods = splitWords(only_meth);
+    if (suite.methods.empty()) throw std::invalid_argument("--methods: no method given");
     if (cli.count("--jobs") > 0) jobs = parseJobs(f.jobs);
     // A variant of a suite (another association, another key) without a copy of its INI: the
     // extra keys follow the suite's [suite] localize_set (a sequence's own localize_set still
@@ -143,6 +146,7 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         try {
             mrpt::config::CConfigFileMemory scratch;
             applyOverride(scratch, kv);
+            checkSections(scratch, localizeSections(), "", {kv});
         } catch (const ConfigError& e) {
             throw std::invalid_argument(std::string("--localize-set: ") + e.what());
         }
@@ -248,6 +252,29 @@ RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f,
     return r;
 }
 
+void BenchApp::checkLocalizeConfig() const {
+    // superloc-localize itself loads the suite's configuration with each method and the suite's
+    // overrides (--dump-config: nothing is run), so that an unknown method or a bad key stops the
+    // suite before its first run, with the localizer's own one-line reason, rather than failing
+    // every run of that method late with the reason in a per-run log.
+    const std::string localize = findTool("superloc-localize", tools_dir);
+    if (localize.empty()) return;  // every run says so (runOne)
+    for (const auto& method : suite.methods) {
+        std::vector<std::string> argv = {localize, suite.localize_config, "--method", method};
+        for (const auto& s : suite.localize_sets) argv.insert(argv.end(), {"--set", s});
+        argv.push_back("--dump-config");
+        const std::string log = (fs::path(out_dir) / "logs" / ("check-" + method + ".log")).string();
+        fs::remove(log);
+        const ProcessResult p = runProcess(argv, log, suite.timeout_s);
+        if (p.ok()) continue;
+        std::string reason = status(p, suite.timeout_s), line;
+        std::ifstream in(log);
+        while (std::getline(in, line))
+            if (!line.empty()) reason = line;  // the last line: the app's one-line error
+        throw std::runtime_error(suite.path + ": method '" + method + "': " + reason);
+    }
+}
+
 void BenchApp::writePlot(const std::string& name, const std::string& svg,
                          std::vector<std::string>& written) const {
     writeTextFile((fs::path(out_dir) / name).string(), svg);
@@ -287,6 +314,7 @@ int BenchApp::run(std::ostream& log) {
         return 0;
     }
     fs::create_directories(fs::path(out_dir) / "logs");
+    checkLocalizeConfig();
     runs.clear();
     plots.clear();
     jobs_used_ = jobs > 0 ? jobs : availableCores();

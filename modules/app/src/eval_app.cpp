@@ -4,12 +4,14 @@
 #include <superloc/core/config.h>
 #include <superloc/app/command_line.h>
 #include <superloc/app/eval_app.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/eval/evaluation.h>
 #include <superloc/app/report_plots.h>
 #include <superloc/io/json_file.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <fstream>
@@ -68,6 +70,7 @@ void EvalApp::initialize(const std::vector<std::string>& args) {
         loadIniFile(cfg, source);
     }
     for (const auto& s : f.sets) applyOverride(cfg, s);
+    checkSections(cfg, evalSections(), f.config, f.sets);
     params = loadParams<eval::EvalParams>(cfg, "eval", f.sets.empty() ? source : source + " / --set");
     if (f.align) params.align = true;
     if (dump_config) return;
@@ -89,6 +92,7 @@ int EvalApp::run(std::ostream& out) {
     const Trajectory est = io::loadTum(est_path);
     const Trajectory gt = io::loadTum(gt_path);
     if (gt.empty()) throw std::runtime_error(gt_path + ": no poses");
+    if (est.empty()) throw std::runtime_error(est_path + ": no poses");
     PointCloud est_map, gt_map;
     if (!est_map_path.empty()) {
         est_map = io::loadPointCloud(est_map_path);
@@ -102,6 +106,15 @@ int EvalApp::run(std::ostream& out) {
     const eval::EvalResult r =
         eval::evaluate(est, gt, params, maps ? &est_map : nullptr, maps ? &gt_map : nullptr,
                  frames_path.empty() ? nullptr : &frames);
+    // Nothing matched: every error statistic would be 0, a perfect score for no comparison.
+    if (r.matched_frames == 0) {
+        char span[200];
+        std::snprintf(span, sizeof span,
+                      " within [eval] assoc_tolerance = %g s (the estimate spans %.3f..%.3f s, the ground truth "
+                      "%.3f..%.3f s)",
+                      params.assoc_tolerance, est.front().t, est.back().t, gt.front().t, gt.back().t);
+        throw std::runtime_error("no pose of " + est_path + " has a ground-truth pose of " + gt_path + span);
+    }
     out << eval::summaryMarkdown(r);
     if (!json_path.empty()) io::saveJson(json_path, eval::toJson(r));
     if (!plots_dir.empty()) {

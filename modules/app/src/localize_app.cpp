@@ -9,7 +9,9 @@
 #include <superloc/io/map_tiles.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/io/tum.h>
+#include <superloc/localization/localization_params.h>
 #include <superloc/localization/map_tile_follower.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/app/localize_app.h>
 #include <superloc/app/observability_scan.h>
 
@@ -127,7 +129,16 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     const bool dump = a.dump;
     loadIniFile(cfg_, config_path_);
     for (const auto& s : sets) applyOverride(cfg_, s);
-    if (!method.empty()) cfg_.write("localization", "method", method);
+    checkSections(cfg_, localizeSections(), config_path_, sets);
+    if (cli.count("--method") > 0) {
+        // Given, even empty ('--method ""' from a script's unset variable): checked, not skipped.
+        try {
+            localization::methodFromString(method);
+        } catch (const ConfigError& e) {
+            throw ConfigError(std::string("--method: ") + e.what());
+        }
+        cfg_.write("localization", "method", method);
+    }
     if (quiet_) setMinLoggingLevel(mrpt::system::LVL_ERROR);
 
     const std::string src = config_path_ + (sets.empty() ? "" : " (+ --set)");
@@ -146,6 +157,7 @@ LocalizeApp::Action LocalizeApp::initialize(const std::vector<std::string>& args
     if (!rawlog.empty()) run_.rawlog = rawlog;
     if (!map.empty()) run_.map = map;
     if (!out.empty()) run_.out = out;
+    if (!pose.empty() && pose != "auto") parsePoseString(pose, "--initial-pose");  // named as given
     if (!pose.empty()) run_.initial_pose = pose, run_.initial_pose_tum.clear();
     if (!pose_tum.empty()) run_.initial_pose_tum = pose_tum, run_.initial_pose.clear();
     run_.validate();
@@ -342,7 +354,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                 }
             }
         }
-        if (summary_.frames == 0) throw std::runtime_error(run_.rawlog + ": no LiDAR scan in the rawlog");
+        if (summary_.frames == 0) throw std::runtime_error(reader.noScanReason());
     } catch (const std::exception& e) {
         // Stopped on a fault the run cannot get past (a corrupt entry, time going backwards beyond
         // the reorder window, no scan at all): the frames so far are in trajectory.tum and

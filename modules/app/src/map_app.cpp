@@ -6,6 +6,7 @@
 #include <superloc/io/map_tiles.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/app/command_line.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/app/map_app.h>
 #include <superloc/map/prior_map.h>
 
@@ -110,6 +111,7 @@ MapAppArgs parseMapAppArgs(const std::vector<std::string>& args) {
         source = a.config;
     }
     for (const auto& o : a.overrides) applyOverride(cfg, o);
+    checkSections(cfg, mapSections(), a.config, a.overrides);
     a.build.rawlog_params = loadParams<io::RawlogParams>(cfg, "rawlog", source);
     return a;
 }

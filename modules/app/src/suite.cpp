@@ -1,5 +1,6 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/app/suite.h>
 #include <superloc/io/rawlog.h>
 
@@ -54,6 +55,7 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     const fs::path base = fs::absolute(path).parent_path();
     SuiteSpec s;
     s.path = path;
+    checkSections(c, suiteSections(), path, {});
     if (!c.sectionExists("suite")) throw ConfigError(path + ": missing section [suite]");
     checkKeys(c, "suite", {"methods", "sequences", "localize_config", "localize_set", "timeout"},
               path);
@@ -64,6 +66,18 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     if (lc.empty()) throw ConfigError(path + ": [suite] localize_config is required");
     s.localize_config = existing(base / lc, path + ": [suite] localize_config");
     s.localize_sets = splitWords(value(c, "suite", "localize_set"));
+    const auto checkSets = [&](const std::vector<std::string>& sets, const std::string& where) {
+        for (const auto& kv : sets) {
+            try {
+                mrpt::config::CConfigFileMemory scratch;
+                applyOverride(scratch, kv);
+                checkSections(scratch, localizeSections(), "", {kv});
+            } catch (const ConfigError& e) {
+                throw ConfigError(where + " localize_set: " + e.what());
+            }
+        }
+    };
+    checkSets(s.localize_sets, path + ": [suite]");
     s.timeout_s = number(c, "suite", "timeout", s.timeout_s, path);
     s.eval = loadParams<eval::EvalParams>(c, "eval", path);
 
@@ -83,10 +97,15 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
         const std::string type = value(c, sec, "type");
         const std::string where = path + ": [" + sec + "]";
         q.localize_sets = splitWords(value(c, sec, "localize_set"));
+        checkSets(q.localize_sets, where);
         if (type == "sim") {
             q.kind = SequenceSpec::Kind::Sim;
             q.config = existing(base / value(c, sec, "config"), where + " config");
             q.seed = static_cast<int>(number(c, sec, "seed", 1, path));
+            if (long long whole = 0; !value(c, sec, "seed").empty() &&
+                                     (!parseInteger(value(c, sec, "seed"), whole) || whole < 0))
+                throw ConfigError(where + " seed = '" + value(c, sec, "seed") +
+                                  "' is not a seed (a whole number >= 0)");
             q.sim_sets = splitWords(value(c, sec, "sim_set"));
         } else if (type == "kitti" || type == "pcd") {
             q.kind = type == "kitti" ? SequenceSpec::Kind::Kitti : SequenceSpec::Kind::PcdDir;

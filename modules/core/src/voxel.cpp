@@ -1,14 +1,25 @@
 #include <superloc/core/voxel.h>
 
 #include <cmath>
+#include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 namespace superloc {
 
 VoxelKey voxelKey(const Vec3f& p, float voxel) {
-    return {static_cast<int32_t>(std::floor(p.x() / voxel)),
-            static_cast<int32_t>(std::floor(p.y() / voxel)),
-            static_cast<int32_t>(std::floor(p.z() / voxel))};
+    // The division stays in float (the keys of every voxel size that fitted 32 bits are
+    // unchanged); only the range check is new.
+    const float q[3] = {std::floor(p.x() / voxel), std::floor(p.y() / voxel), std::floor(p.z() / voxel)};
+    constexpr float kMax = 4.6e18f;  // < 2^62
+    for (const float v : q)
+        if (!(std::abs(v) < kMax)) {
+            std::ostringstream msg;
+            msg << "voxel size " << voxel << " m is too small for the point (" << p.x() << ", " << p.y()
+                << ", " << p.z() << "): its voxel index overflows (use a larger voxel, or 0 to keep every point)";
+            throw std::invalid_argument(msg.str());
+        }
+    return {static_cast<int64_t>(q[0]), static_cast<int64_t>(q[1]), static_cast<int64_t>(q[2])};
 }
 
 std::vector<uint32_t> voxelDownsampleIndices(const std::vector<Vec3f>& points, float voxel) {

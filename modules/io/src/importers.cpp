@@ -103,14 +103,19 @@ ImportResult writeRawlog(const std::vector<std::string>& files, CloudFormat form
         ex.flushUntil(w, times[i]);
         size_t dropped = 0;
         PointCloud c = loadPointCloud(files[i], format, &dropped);
+        r.dropped_points += dropped;
+        if (c.empty()) {  // no valid point: not a scan (its gt pose is still written)
+            if (r.empty_scans++ == 0) r.first_empty = files[i];
+        }
         Scan s;
         s.t = times[i];
         s.points = std::move(c.points);
         s.intensity = std::move(c.intensity);
-        w.writeScan(s);
-        ++r.scans;
-        r.points += s.size();
-        r.dropped_points += dropped;
+        if (!s.empty()) {
+            w.writeScan(s);
+            ++r.scans;
+            r.points += s.size();
+        }
         if (!poses.empty() && poses[i]) {
             PoseStamped p;
             p.t = times[i];

@@ -5,6 +5,7 @@
 #include <pcl/console/print.h>
 #include <pcl/io/pcd_io.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -75,6 +76,37 @@ float readAs(const uint8_t* p, const pcl::PCLPointField& f) {
     }
 }
 
+/// The data lines of an ASCII PCD: PCL reads a value that is not a number as 0 and pads a short
+/// line with zeros, so a bad line would be a point at the origin. Each non-blank line must hold
+/// `values` numbers, and there must be `points` lines. Errors name the file and line.
+void checkAsciiData(const std::string& path, long long offset, size_t lineno, long long values, long long points) {
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(offset);
+    long long n = 0;
+    for (std::string line; std::getline(in, line);) {
+        ++lineno;
+        std::istringstream ss(line);
+        long long k = 0;
+        for (std::string tok; ss >> tok; ++k) {
+            char* end = nullptr;
+            std::strtod(tok.c_str(), &end);
+            if (end != tok.c_str() + tok.size())
+                throw std::runtime_error(path + ":" + std::to_string(lineno) + ": '" + tok.substr(0, 40) +
+                                         "' is not a number");
+        }
+        if (k == 0) continue;  // a blank line
+        if (k != values)
+            throw std::runtime_error(path + ":" + std::to_string(lineno) + ": " + std::to_string(k) +
+                                     " values, the header's FIELDS/COUNT say " + std::to_string(values));
+        if (++n > points)
+            throw std::runtime_error(path + ":" + std::to_string(lineno) + ": more data lines than the header's " +
+                                     std::to_string(points) + " points (POINTS / WIDTH x HEIGHT)");
+    }
+    if (n < points)
+        throw std::runtime_error(path + ": truncated PCD file (" + std::to_string(n) + " data lines for " +
+                                 std::to_string(points) + " points)");
+}
+
 /// PCL 1.13 accepts some broken headers as an empty cloud (no DATA line) and crashes on
 /// others (FIELDS/SIZE/TYPE/COUNT of different lengths): validate the header strictly first.
 void checkHeader(const std::string& path) {
@@ -92,7 +124,9 @@ void checkHeader(const std::string& path) {
     };
     std::map<std::string, std::vector<std::string>> h;
     std::string line;
+    size_t lineno = 0;  // lines read so far
     for (int n = 0; n < 100 && std::getline(in, line); ++n) {
+        ++lineno;
         // PCL trims each line and stops reading the header at one left empty ("\r", blanks):
         // before DATA that leaves it without fields, and its reader dereferences null (found by
         // tests/fuzz/fuzz_pcd.cpp). Only truly empty lines are skipped by both.
@@ -118,7 +152,7 @@ void checkHeader(const std::string& path) {
     if (h["SIZE"].size() != nf || h["TYPE"].size() != nf ||
         (h.count("COUNT") && h["COUNT"].size() != nf))
         throw bad("FIELDS, SIZE, TYPE and COUNT have different lengths");
-    long long step = 0;
+    long long step = 0, values = 0;  // bytes and values per point
     for (size_t i = 0; i < nf; ++i) {
         const long long sz = toInt(h["SIZE"][i], "SIZE");
         const long long cnt = h.count("COUNT") ? toInt(h["COUNT"][i], "COUNT") : 1;
@@ -128,6 +162,7 @@ void checkHeader(const std::string& path) {
         if (ty != "F" && ty != "I" && ty != "U") throw bad("bad TYPE '" + ty + "'");
         if (ty == "F" && sz != 4 && sz != 8) throw bad("float field of size " + std::to_string(sz));
         step += sz * cnt;
+        values += cnt;
     }
     const long long w = toInt(h["WIDTH"][0], "WIDTH"), ht = toInt(h["HEIGHT"][0], "HEIGHT");
     if (h.count("POINTS") && toInt(h["POINTS"].at(0), "POINTS") != w * ht)
@@ -162,6 +197,19 @@ void checkHeader(const std::string& path) {
         throw std::runtime_error(path + ": truncated PCD file (" +
                                  std::to_string(size - header_end) + " data bytes for " +
                                  std::to_string(w * ht) + " points)");
+    // More data than POINTS says: PCL reads POINTS points and drops the rest without a word.
+    // (PCL's own binary writer pads the file with zero bytes: those are not data.)
+    if (data == "binary" && step > 0 && size - header_end - need >= step) {
+        in.clear();
+        in.seekg(header_end + need);
+        char c = 0;
+        while (in.get(c) && c == 0) {
+        }
+        if (in)
+            throw bad("the data holds " + std::to_string((size - header_end) / step) +
+                      " points, POINTS / WIDTH x HEIGHT says " + std::to_string(w * ht));
+    }
+    if (data == "ascii") checkAsciiData(path, header_end, lineno, values, w * ht);
 }
 
 }  // namespace

@@ -9,8 +9,12 @@
 #include <superloc/core/mrpt_conversions.h>
 #include <superloc/io/rawlog.h>
 
+#include <algorithm>
 #include <cmath>
+#include <exception>
 #include <filesystem>
+#include <fstream>
+#include <utility>
 #include <queue>
 #include <stdexcept>
 
@@ -49,6 +53,9 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
     double newest = -INFINITY;  // latest timestamp read
     RawlogParams::ScanSelection selection;  // [rawlog] scans
     size_t lidar_index = 0;                 // LiDAR scans emitted or dropped so far
+    size_t lidar_emitted = 0;               // LiDAR scans returned by next()
+    bool gzipped = false;                   // the file starts with gzip's magic bytes
+    std::exception_ptr error;               // a read error, thrown once the window is emptied
 
     std::string where() const { return path + ": entry " + std::to_string(entry) + ": "; }
 
@@ -84,6 +91,9 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
                 warnOnce(1, "NaN/inf points dropped from scans");
             if (!params.lidar_label.empty() && scan.label != params.lidar_label) {
                 ++stats.skipped_labels;
+                auto& others = stats.other_lidar_labels;
+                if (others.size() < 5 && std::find(others.begin(), others.end(), scan.label) == others.end())
+                    others.push_back(scan.label);
                 return;
             }
             if (scan.empty()) {
@@ -149,16 +159,31 @@ struct RawlogReader::Impl : public mrpt::system::COutputLogger {
     /// own loop, because CRawlog's prints a trace and reports a corrupt file as a clean end.
     void readEntry() {
         mrpt::serialization::CSerializable::Ptr obj;
+        const uint64_t start = file.getPosition();
         try {
             auto arch = mrpt::serialization::archiveFrom(file);
             arch >> obj;
         } catch (const mrpt::serialization::CExceptionEOF&) {
-            eof = true;  // clean end: nothing left before the next object's header
-            return;
+            // The end of the file before the next object's header is a clean end; inside an
+            // object (bytes of it were read), the file was cut.
+            if (file.getPosition() == start) {
+                eof = true;
+                return;
+            }
+            ++entry;
+            throw std::runtime_error(where() + "corrupt or truncated rawlog: the file ends inside this entry");
         } catch (const std::exception& e) {
             ++entry;
-            throw std::runtime_error(where() +
-                                     "corrupt or truncated rawlog: " + detail::firstLine(e.what()));
+            if (entry == 1 && !gzipped)
+                throw std::runtime_error(path + ": not an MRPT rawlog (its first bytes are neither gzip "
+                                                "nor an MRPT object)");
+            std::string why = detail::firstLine(e.what());
+            // MRPT's guess for a bad object header, misleading here (the reader reads both).
+            const size_t hint = why.find(" Perhaps it's a gz-compressed stream?");
+            if (hint != std::string::npos) why.erase(hint);
+            for (char& c : why)  // a corrupt class name is raw bytes
+                if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7e) c = '?';
+            throw std::runtime_error(where() + "corrupt or truncated rawlog: " + why);
         }
         ++entry;
         if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
@@ -181,6 +206,12 @@ RawlogReader::RawlogReader(const std::string& path, const RawlogParams& params)
     impl_->selection = params.scanSelection();
     if (!std::filesystem::is_regular_file(path))
         throw std::runtime_error(path + ": rawlog not found");
+    {
+        std::ifstream head(path, std::ios::binary);
+        unsigned char magic[2] = {0, 0};
+        head.read(reinterpret_cast<char*>(magic), 2);
+        impl_->gzipped = magic[0] == 0x1f && magic[1] == 0x8b;
+    }
     if (!impl_->file.open(path)) throw std::runtime_error(path + ": cannot open rawlog");
 }
 
@@ -190,15 +221,50 @@ bool RawlogReader::next(RawlogItem& item) {
     auto& m = *impl_;
     // Emit the oldest pending item once nothing still unread can be older than it; LiDAR scans
     // outside [rawlog] scans are dropped here, in time order.
+    // A read error (a corrupt or truncated entry, time going backwards) ends the reading, but
+    // the items already in the window are returned first; the error comes after them.
     for (;;) {
-        while (!m.eof && (m.heap.empty() || m.newest - m.heap.top().t <= m.params.reorder_window))
-            m.readEntry();
-        if (m.heap.empty()) return false;
+        while (!m.eof && (m.heap.empty() || m.newest - m.heap.top().t <= m.params.reorder_window)) {
+            try {
+                m.readEntry();
+            } catch (const std::exception&) {
+                m.error = std::current_exception();
+                m.eof = true;
+            }
+        }
+        if (m.heap.empty()) {
+            if (m.error) std::rethrow_exception(std::exchange(m.error, nullptr));
+            return false;
+        }
         item = std::move(const_cast<Pending&>(m.heap.top()).item);
         m.heap.pop();
-        if (item.kind != RawlogItem::Kind::Lidar || m.selection.contains(m.lidar_index++)) return true;
+        if (item.kind != RawlogItem::Kind::Lidar) return true;
+        if (m.selection.contains(m.lidar_index++)) {
+            ++m.lidar_emitted;
+            return true;
+        }
         ++m.stats.unselected_scans;
     }
+}
+
+std::string RawlogReader::noScanReason() const {
+    const auto& m = *impl_;
+    const auto& st = m.stats;
+    const std::string& p = m.path;
+    if (st.lidar > 0 && m.lidar_emitted == 0)
+        return p + ": [rawlog] scans = '" + m.params.scans + "' selects none of its " +
+               std::to_string(st.lidar) + " LiDAR scans (indices 0 to " + std::to_string(st.lidar - 1) + ")";
+    if (st.lidar == 0 && !st.other_lidar_labels.empty()) {
+        std::string labels;
+        for (const auto& l : st.other_lidar_labels) labels += (labels.empty() ? "'" : ", '") + l + "'";
+        return p + ": no LiDAR scan labelled [rawlog] lidar_label = '" + m.params.lidar_label +
+               "' (its scans are labelled " + labels + ")";
+    }
+    if (st.lidar == 0 && st.empty_scans > 0)
+        return p + ": its " + std::to_string(st.empty_scans) + " LiDAR observations have no valid point";
+    return p + ": no LiDAR scan in the rawlog (" + std::to_string(m.entry) + " entries read: " +
+           std::to_string(st.imu) + " IMU, " + std::to_string(st.odom_alt) + " odom_alt, " +
+           std::to_string(st.gt) + " gt, " + std::to_string(st.unknown_observations) + " of unused classes)";
 }
 
 const RawlogStats& RawlogReader::stats() const { return impl_->stats; }

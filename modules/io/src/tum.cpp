@@ -20,7 +20,7 @@ Trajectory loadTum(const std::string& path) {
     if (!in) throw std::runtime_error(path + ": cannot open TUM file");
     Trajectory traj;
     std::string line;
-    size_t lineno = 0;
+    size_t lineno = 0, last_line = 0;  // last_line: the line of traj.back()
     while (std::getline(in, line)) {
         ++lineno;
         const size_t first = line.find_first_not_of(" \t\r");
@@ -47,6 +47,11 @@ Trajectory loadTum(const std::string& path) {
             throw std::runtime_error(where(path, lineno) + "timestamp goes backwards (" +
                                      std::to_string(v[0]) + " < " + std::to_string(traj.back().t) +
                                      ")");
+        // Two poses at one time: which one a pairing by time takes would depend on the line order.
+        if (!traj.empty() && v[0] == traj.back().t)
+            throw std::runtime_error(where(path, lineno) + "timestamp " + line.substr(first, line.find_first_of(" \t", first) - first) +
+                                     " repeats line " + std::to_string(last_line));
+        last_line = lineno;
         PoseStamped p;
         p.t = v[0];
         p.pose = makePose(v[1], v[2], v[3], v[4], v[5], v[6], v[7]);

@@ -132,6 +132,7 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
             accumulate(scan, opts_.body_poses ? SE3d(*T_map_x * scan.T_imu_lidar) : *T_map_x);
             if (progress) progress(std::min(lidar_seen, traj.size()), traj.size());
         }
+        if (lidar_seen == 0) throw std::runtime_error(reader.noScanReason());
         if (result_.scans_used == 0)
             throw std::runtime_error(
                 opts_.rawlog + ": no scan could be placed (" + std::to_string(lidar_seen) +

@@ -33,13 +33,9 @@ SimConfig loadSimConfig(const std::string& ini_path, const std::vector<std::stri
     loadIniFile(c.ini, ini_path);
     for (const auto& o : overrides) applyOverride(c.ini, o);
 
-    std::vector<std::string> sections;
-    c.ini.getAllSections(sections);
-    std::vector<std::string> known = {"sim", "trajectory", "lidar", "imu", "odom_alt"};
-    known.insert(known.end(), worldNames().begin(), worldNames().end());
-    for (const auto& s : sections)
-        if (!s.empty() && std::find(known.begin(), known.end(), s) == known.end())
-            throw ConfigError(ini_path + ": unknown section [" + s + "]");
+    IniSections known{"superloc-sim", {"sim", "trajectory", "lidar", "imu", "odom_alt"}, {}, {}};
+    known.reads.insert(known.reads.end(), worldNames().begin(), worldNames().end());
+    checkSections(c.ini, known, ini_path, overrides);
 
     c.sim = load<SimParams>(c.ini, "sim", ini_path);
     for (const auto& w : worldNames())

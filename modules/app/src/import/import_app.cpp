@@ -5,6 +5,7 @@
 #include <mrpt/system/progress.h>
 #include <superloc/app/command_line.h>
 #include <superloc/app/import_app.h>
+#include <superloc/app/ini_sections.h>
 #include <superloc/core/config.h>
 #include <superloc/io/importers.h>
 #include <superloc/io/rawlog.h>
@@ -90,8 +91,17 @@ io::RosbagParams loadRosbagParams(const Args& a) {
         loadIniFile(cfg, a.config);
     }
     for (const auto& s : a.sets) applyOverride(cfg, s);
+    checkSections(cfg, importSections(), a.config, a.sets);
     return loadParams<io::RosbagParams>(
         cfg, "rosbag", a.sets.empty() ? source : source + " / --set");
+}
+
+/// One warning line for the scans left out because they had no valid point.
+void warnEmptyScans(const io::ImportResult& r) {
+    if (r.empty_scans > 0)
+        std::cerr << "superloc-import: warning: " << r.empty_scans << " empty scan"
+                  << (r.empty_scans > 1 ? "s" : "") << " (no valid point) not imported, the first: "
+                  << r.first_empty << "\n";
 }
 
 /// --gt-tum: the `gt` poses of the written rawlog as TUM.
@@ -137,6 +147,7 @@ int runRosbag(const Args& a, const io::RosbagParams& params,
                   << (r.time_field.empty() ? "" : " '" + r.time_field + "'") << "), " << r.points
                   << " points, " << r.imu << " imu, " << r.odom_alt << " odom_alt, " << r.gt_poses
                   << " gt poses, " << r.dropped_points << " NaN/inf points dropped\n";
+    warnEmptyScans(r);
     writeGtTum(a, params.gt_label);
     return 0;
 }
@@ -182,6 +193,7 @@ int ImportApp::run(const std::vector<std::string>& args) {
         std::cout << a.out << ": " << r.scans << " scans, " << r.points << " points, " << r.gt_poses
                   << " gt poses, " << r.imu << " imu, " << r.odom_alt << " odom_alt, "
                   << r.dropped_points << " NaN/inf points dropped\n";
+    warnEmptyScans(r);
     writeGtTum(a, "gt");
     return 0;
 }

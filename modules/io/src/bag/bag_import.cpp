@@ -294,7 +294,10 @@ RosbagImportResult importBag(BagSource& b, const RosbagParams& p, const std::str
             }
             s.T_imu_lidar = T_body_lidar;
             r.dropped_points += st.invalid_points;
-            if (s.empty()) return true;
+            if (s.empty()) {
+                if (r.empty_scans++ == 0) r.first_empty = "'" + topic + "' at t=" + std::to_string(t);
+                return true;
+            }
             if (!s.rel_time.empty()) {
                 w.writeTimedScan(s, p.lidar_label, float(p.intensity_max));
                 if (r.time_field.empty()) r.time_field = st.time_field;

@@ -46,6 +46,9 @@ class BenchApp {
                      const Trajectory& gt, const PointCloud& gt_map, std::ostream& log,
                      std::vector<std::string>& plots_written) const;
     std::string tool(const std::string& name) const;
+    /// Runs superloc-localize --dump-config with each method and the suite's overrides; throws
+    /// std::runtime_error with its one-line reason when one fails (before any run starts).
+    void checkLocalizeConfig() const;
     void writeResults() const;
     /// Writes DIR/name and adds name to `written`.
     void writePlot(const std::string& name, const std::string& svg,

@@ -26,8 +26,9 @@ class ConfigError : public std::runtime_error {
 };
 
 /// Throws ConfigError if `section` of `cfg` holds a key that `defaults.saveToConfigFile` does
-/// not write, or a value whose type differs from the default's. `source` names the INI file
-/// (or "--set") in the message. A missing section is fine (all defaults).
+/// not write, or a value whose type differs from the default's (a number, a whole number when
+/// the default is written as one, a boolean). `source` names the INI file (or "--set") in the
+/// message. A missing section is fine (all defaults).
 void validateSection(
     const mrpt::config::CConfigFileBase& cfg, const std::string& section,
     const mrpt::config::CLoadableOptions& defaults, const std::string& source);
@@ -50,11 +51,38 @@ std::string stripIniValue(const std::string& raw);
 
 /// Parses a whole string as a finite double; false on any trailing garbage.
 bool parseDouble(const std::string& s, double& out);
+/// Parses a whole string as a whole number ("12", "-3"; not "2000.7", "1e3").
+bool parseInteger(const std::string& s, long long& out);
 /// Parses true/false/1/0/yes/no (case-insensitive).
 bool parseBool(const std::string& s, bool& out);
 
-/// cfg.setContent(text) with MRPT's parse errors (e.g. a malformed `$eval{...}`, whose message
-/// spans several lines with a call trace) turned into a one-line ConfigError naming `source`.
+/// Checks the lines of an INI text before MRPT parses it, which would take each of these
+/// silently: a section header without its closing ']' (MRPT names a section after the header
+/// and the lines below it), a key before any [section], a line that is not `key = value`, and a
+/// key given twice in one section (MRPT keeps the last). Throws ConfigError
+/// "<source>:<line>: ..." naming the section and key. Comments (`;`, `#`, `//`), blank lines and
+/// MRPT's `@define` lines are skipped.
+void checkIniText(const std::string& text, const std::string& source);
+
+/// The INI sections an app reads, for checkSections().
+struct IniSections {
+    std::string app;                     ///< e.g. "superloc-localize", for the messages
+    std::vector<std::string> reads;      ///< the sections the app reads: the only ones --set may name
+    std::vector<std::string> shared;     ///< sections other apps read from the same file: ignored there
+    std::vector<std::string> prefixes;   ///< section name prefixes the app reads (e.g. "seq.")
+};
+
+/// Throws ConfigError when an override of `sets` ("section.key=value") names a section that
+/// `known.reads` does not hold, or when `cfg` has a section that is in neither `known.reads`
+/// nor `known.shared` (a misspelling: MRPT would ignore it). The message names the --set, or
+/// `ini_path`, the section's line and the section, and lists the sections the app reads.
+/// Section names compare case-insensitively, as MRPT's do.
+void checkSections(const mrpt::config::CConfigFileBase& cfg, const IniSections& known,
+                   const std::string& ini_path, const std::vector<std::string>& sets);
+
+/// cfg.setContent(text) after checkIniText(), with MRPT's parse errors (e.g. a malformed
+/// `$eval{...}`, whose message spans several lines with a call trace) turned into a one-line
+/// ConfigError naming `source`.
 void setIniContent(mrpt::config::CConfigFileMemory& cfg, const std::string& text,
                    const std::string& source);
 

@@ -8,9 +8,10 @@
 
 namespace superloc {
 
-/// Integer voxel key of a point for a given voxel size.
+/// Integer voxel key of a point for a given voxel size (64-bit: a small voxel far from the
+/// origin, e.g. 1e-9 m at 10 m, needs more than 32 bits).
 struct VoxelKey {
-    int32_t x, y, z;
+    int64_t x, y, z;
     bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 struct VoxelKeyHash {
@@ -19,6 +20,9 @@ struct VoxelKeyHash {
                (static_cast<size_t>(k.z) * 83492791u);
     }
 };
+/// floor(p / voxel) per axis. Throws std::invalid_argument naming the voxel size and the point
+/// when an index does not fit in 62 bits (a voxel far below the float resolution of the point,
+/// or a non-finite point), rather than merging distant points into one voxel.
 VoxelKey voxelKey(const Vec3f& p, float voxel);
 
 /// For each occupied voxel, the index of the point kept: the one closest to the voxel's

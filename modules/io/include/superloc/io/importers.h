@@ -16,6 +16,8 @@ struct ImportResult {
     size_t dropped_points = 0;  ///< NaN/inf points dropped
     size_t imu = 0;             ///< CObservationIMU written (bag topic or --imu-csv)
     size_t odom_alt = 0;        ///< `odom_alt` CObservationRobotPose written (topic or --odom-csv)
+    size_t empty_scans = 0;     ///< scans with no valid point, not written (the reader would skip them)
+    std::string first_empty;    ///< the first of them: its file, or "topic at t"
 };
 
 /// Samples from other files (--imu-csv, --odom-csv) written into an import, interleaved with

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace mrpt::obs {
 class CObservation;
@@ -77,6 +78,7 @@ struct RawlogStats {
     size_t skipped_labels = 0;        ///< LiDAR/IMU observations of a non-configured label
     size_t unselected_scans = 0;      ///< LiDAR scans left out by [rawlog] scans
     size_t max_pending = 0;           ///< most items held at once in the re-sort window
+    std::vector<std::string> other_lidar_labels;  ///< labels of the LiDAR scans lidar_label left out (first few)
 };
 
 /// Streams a rawlog in timestamp order, one typed item at a time. Memory is bounded by the
@@ -96,6 +98,8 @@ struct RawlogStats {
 /// Intensity: as stored (CPointsMapXYZI), or 0..1 for Velodyne/rotating scans (byte / 255). Throws
 /// std::runtime_error with a one-line message naming the file (and the entry index) on a missing,
 /// truncated or corrupt file, or on timestamps going backwards by more than the reorder window.
+/// The error comes after every item read before it: the items still held in the re-sort window
+/// are returned first (a rawlog cut inside its 10th scan gives 9 scans, then the error).
 class RawlogReader {
  public:
     explicit RawlogReader(const std::string& path, const RawlogParams& params = {});
@@ -108,6 +112,9 @@ class RawlogReader {
 
     const RawlogStats& stats() const;
     const std::string& path() const;
+    /// Why the reader returned no LiDAR scan, as one line naming the file and the culprit
+    /// ([rawlog] lidar_label, [rawlog] scans, empty scans), for a caller that needs one.
+    std::string noScanReason() const;
     /// The logger of the (once-per-kind) warnings, e.g. to lower its verbosity for --quiet.
     mrpt::system::COutputLogger& logger();
 

@@ -9,7 +9,7 @@
 namespace superloc::io {
 
 /// Loads a TUM file. Throws std::runtime_error "FILE:LINE: ..." on a malformed line, a
-/// non-finite value or a timestamp going backwards.
+/// non-finite value, a timestamp going backwards or one repeated.
 Trajectory loadTum(const std::string& path);
 
 /// Saves a whole trajectory (full double precision).
