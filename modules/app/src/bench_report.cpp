@@ -150,6 +150,26 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
                   " | " + cells(h.counts[2]) + " | " + std::to_string(h.confidentlyWrong()) + " |\n";
         }
     }
+    // The pose covariance's consistency (eval::consistency, doc/evaluation.md).
+    bool any_cons = false;
+    for (const auto& r : runs) any_cons |= r.result && r.result->consistency && r.result->consistency->frames() > 0;
+    if (any_cons) {
+        md +=
+            "\n## Consistency of the pose covariance\n\nPer run, over its frames not lost: ANEES of the "
+            "position and rotation (3 dof each: consistent at 3) and of the full pose (6 dof), and the "
+            "share of frames under the chi-square 95 % bound (7.81; 12.59 for the pose; consistent at "
+            "95 %) (doc/evaluation.md).\n\n| Sequence | Method | frames | ANEES pos | rot | pose | "
+            "under 95 % pos | rot | pose |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (const auto& r : runs) {
+            if (!r.result || !r.result->consistency || r.result->consistency->frames() == 0) continue;
+            const auto& c = *r.result->consistency;
+            md += "| " + r.sequence + " | " + r.method + " | " + std::to_string(c.frames()) + " | " +
+                  fmt("%.2f", c.anees_pos) + " | " + fmt("%.2f", c.anees_rot) + " | " +
+                  (c.full ? fmt("%.2f", c.anees_pose) : std::string("–")) + " | " +
+                  fmt("%.1f", 100 * c.under95_pos) + " | " + fmt("%.1f", 100 * c.under95_rot) + " | " +
+                  (c.full ? fmt("%.1f", 100 * c.under95_pose) : std::string("–")) + " |\n";
+        }
+    }
     // Risk as a failure predictor, per method over all its sequences (eval::riskPrediction).
     std::vector<std::string> risk_methods;
     std::map<std::string, eval::RiskPrediction> risk_sum;

@@ -32,7 +32,7 @@ std::string framesCsvHeader() {
            "scan_info_x,scan_info_y,scan_info_z,scan_info_roll,scan_info_pitch,scan_info_yaw,"
            "scan_sigma_x,scan_sigma_y,scan_sigma_z,scan_sigma_roll,scan_sigma_pitch,scan_sigma_yaw,"
            "est_sigma_x,est_sigma_y,est_sigma_z,est_sigma_roll,est_sigma_pitch,est_sigma_yaw,"
-           "weak_axes,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sigma_roll,sigma_pitch,sigma_yaw";
+           "weak_axes,cov_xx,cov_xy,cov_xz,cov_yy,cov_yz,cov_zz,sigma_roll,sigma_pitch,sigma_yaw,dead_reckoning_s";
 }
 
 Mat6d reportedCovariance(const localization::FrameReport& r, const SE3d& T) {
@@ -108,6 +108,7 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     const Mat3d R = T.linear();
     const Mat3d Crot = R.transpose() * C.bottomRightCorner<3, 3>() * R;
     for (int k = 0; k < 3; ++k) add("%.5g", std::sqrt(std::max(0.0, Crot(k, k))) / kDeg);
+    add("%.2f", r.dead_reckoning_s);
     return s;
 }
 

@@ -26,6 +26,7 @@ void HealthParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
     MRPT_LOAD_CONFIG_VAR(weak_gamma, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_sigma_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_sigma_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(max_dead_reckoning_s, double, c, s);
     MRPT_LOAD_CONFIG_VAR(degraded_inlier_drop, double, c, s);
     MRPT_LOAD_CONFIG_VAR(lost_inlier_drop, double, c, s);
     MRPT_LOAD_CONFIG_VAR(reference_frames, int, c, s);
@@ -42,6 +43,7 @@ void HealthParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     MRPT_SAVE_CONFIG_VAR_COMMENT(weak_gamma, "[-] an axis with gamma below: weak (weak_axes; not degraded by itself)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_sigma_xyz, "[m] the pose's position std above: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_sigma_deg, "[deg] the pose's rotation std above: degraded");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_dead_reckoning_s, "[s] a weak axis held by neither the scan nor odom_alt longer: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(degraded_inlier_drop, "[-] inlier ratio below this x the reference: degraded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(lost_inlier_drop, "[-] inlier ratio below this x the reference: lost");
     MRPT_SAVE_CONFIG_VAR_COMMENT(reference_frames, "tracked frames in the reference inlier ratio (median)");
@@ -61,6 +63,7 @@ void HealthParams::validate() const {
     in01(weak_gamma, "weak_gamma");
     if (!(max_sigma_xyz > 0) || !(max_sigma_deg > 0))
         throw ConfigError("[health] max_sigma_xyz and max_sigma_deg must be > 0");
+    if (!(max_dead_reckoning_s >= 0)) throw ConfigError("[health] max_dead_reckoning_s must be >= 0");
     in01(degraded_inlier_drop, "degraded_inlier_drop");
     in01(lost_inlier_drop, "lost_inlier_drop");
     if (lost_inlier_drop > degraded_inlier_drop)
@@ -107,6 +110,7 @@ HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
     };
     c.sigma_xyz = largest(r.cov.topLeftCorner<3, 3>()) > p_.max_sigma_xyz;
     c.sigma_rot = largest(r.cov.bottomRightCorner<3, 3>()) > p_.max_sigma_deg * kDeg;
+    c.dead_reckoning = r.dead_reckoning_s > p_.max_dead_reckoning_s;
     c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
     c.drift = r.used_imu && p_.drift_window > 0 && r.imu_drift_deg > p_.max_drift_deg;
     return c;
@@ -129,6 +133,7 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
         if (c.not_converged) add("not_converged");
         if (c.sigma_xyz) add("sigma_xyz");
         if (c.sigma_rot) add("sigma_rot");
+        if (c.dead_reckoning) add("dead_reckoning");
         if (c.inliers) add("inliers");
         if (c.prediction) add("prediction");
         if (c.drift) add("drift");

@@ -108,6 +108,13 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
     // Step 6: report.
     finish(f, f.pred, velocity_unknown, sol, rep);
     if (variant_.registration != RegistrationKind::Ndt && !rep.diverged) posterior(f, sol, rep);
+    // How long the scan has left a translation axis to the prediction alone (HealthMonitor).
+    const double hold = 1.0 / std::pow(params_.health.max_sigma_xyz / 10.0, 2);
+    bool blind = false;
+    for (int k = 0; k < 3; ++k) blind |= rep.gamma[k] < params_.health.weak_gamma && !(rep.prior_weight[k] >= hold);
+    if (!blind || rep.diverged) blind_since_.reset();
+    else if (!blind_since_) blind_since_ = f.scan->t;
+    rep.dead_reckoning_s = blind_since_ ? f.scan->t - *blind_since_ : 0.0;
     return sol;
 }
 
@@ -316,6 +323,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
         post_.commit(*sol.post);
     else
         post_.reset();
+    if (!tracked) blind_since_.reset();
     if (tracked && !f.first && variant_.fusion->usesOdomAlt()) odom_link_.frameDone(*variant_.fusion, sol, f.prev, rep);
     if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
         prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);

@@ -61,6 +61,10 @@ struct FrameReport {
     /// The axes the scan constrains weakly (gamma below [health] weak_gamma), as letters: held
     /// by the IMU or odom_alt, reported, not degraded by themselves.
     std::string weak_axes;
+    /// [s] how long a translation axis has been weak in the scan (gamma below [health]
+    /// weak_gamma) without odom_alt holding it (its per-frame std along it above [health]
+    /// max_sigma_xyz / 10): carried by the prediction alone (0: not now)
+    double dead_reckoning_s = 0;
     bool prior_used = false;           ///< a relative-pose prior entered the solve
     Vec6d prior_weight = Vec6d::Zero();  ///< diagonal information of that prior
 

@@ -40,6 +40,7 @@ struct HealthChecks {
     std::array<bool, 6> weak{};  ///< gamma below weak_gamma, per axis (reported, not degraded by itself)
     bool sigma_xyz = false;      ///< the position's std above max_sigma_xyz
     bool sigma_rot = false;      ///< the rotation's std above max_sigma_deg
+    bool dead_reckoning = false; ///< a weak translation axis held by nothing measured too long
     bool prediction = false;     ///< IMU prediction and solved pose disagree
     bool drift = false;          ///< the solved rotation drifted from the gyro's over drift_window
     bool unconfirmed = false;    ///< after an unsettled doubt, not yet confirmed by a search
@@ -68,6 +69,11 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
     /// a navigation stack does not tolerate (doc/health.md)
     double max_sigma_xyz = 0.10;        ///< [m]
     double max_sigma_deg = 1.0;         ///< [deg]
+    /// A translation axis the scan holds weakly and odom_alt does not hold (its per-frame std along
+    /// it above max_sigma_xyz / 10) is carried by the prediction alone (the IMU chain, or constant
+    /// velocity): beyond this long, degraded whatever the covariance says (doc/health.md: the IMU
+    /// chain's std was measured overconfident on a corridor where the solver learned a wrong bias)
+    double max_dead_reckoning_s = 3.0;  ///< [s]
     double degraded_inlier_drop = 0.9;  ///< [-] inlier ratio below this x the reference: degraded
     double lost_inlier_drop = 0.6;      ///< [-] below this x the reference: lost
     int reference_frames = 20;          ///< tracked frames whose median inlier ratio is the reference

@@ -130,6 +130,7 @@ class Tracker {
                                           params_.risk.weak_sigma_xyz};
     /// The reported pose's covariance (doc/method.md §4): scan, IMU window and odom_alt together.
     fusion::PosePosterior post_;
+    std::optional<double> blind_since_;  ///< [s] since when a weak axis is held by nothing measured
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
     void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
