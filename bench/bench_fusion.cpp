@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 #include <superloc/core/se3.h>
 #include <superloc/fusion/estimate_information.h>
+#include <superloc/fusion/pose_posterior.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/odom_calibration.h>
 #include <superloc/risk/alignment_risk.h>
@@ -119,6 +120,7 @@ static void BM_RiskAndWeight(benchmark::State& st) {
         const SE3d delta = calib.correct(odom);
         const Vec6d w = calib.sigma(odom).cwiseAbs2().cwiseInverse();
         benchmark::DoNotOptimize(sqrtInfo(Mat6d(e.G * w.asDiagonal() * e.G)));
+        benchmark::DoNotOptimize(est.motionVariance(0.1, T.linear()));  // the innovation test
         benchmark::DoNotOptimize(delta);
         benchmark::DoNotOptimize(scan);
         calib.update(odom, makePoseRPY(0.5, 0, 0, 0, 0, 0.01), held);
@@ -126,5 +128,37 @@ static void BM_RiskAndWeight(benchmark::State& st) {
     }
 }
 BENCHMARK(BM_RiskAndWeight)->Unit(benchmark::kMicrosecond);
+
+// The reported pose's covariance per tracked frame (fusion::PosePosterior, doc/method.md §4): the
+// last frame's information carried through the IMU factor and odom_alt's prior, the scan added,
+// the covariance, the commit; and the scan-only covariance every frame gets first.
+static void BM_PoseCovariance(benchmark::State& st) {
+    const auto corr = room(2000);
+    const SE3d T = makePoseRPY(1, 2, 0.5, 0.01, 0.02, 0.3);
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.004, 0.0004});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.2, 0, 9.81), Vec3d(0, 0, 0.1), 0.005);
+    FusionParams params;
+    FrameState prev, cur;
+    cur.setPose(T);
+    prev.setPose(T * makePoseRPY(-0.5, 0, 0, 0, 0, -0.01));
+    PosePosterior post(Vec6d::Constant(0.01));
+    RelativePosePrior prior;
+    prior.delta = prev.T_map_imu().inverse() * cur.T_map_imu();
+    prior.sqrt_info = Mat6d::Identity() * 100;
+    for (auto _ : st) {
+        const Mat6d H = informationAboveNoise(scanInformation(corr, T, 0.05), 0.0049);
+        benchmark::DoNotOptimize(post.covariance(H));
+        FrameState p = prev, c = cur;
+        FrameProblemInputs in;
+        in.prev = &p;
+        in.cur = &c;
+        in.imu = &pre;
+        in.prior = prior;
+        const auto u = post.update(in, params, H);
+        post.commit(u);
+        benchmark::DoNotOptimize(u.cov);
+    }
+}
+BENCHMARK(BM_PoseCovariance)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();
