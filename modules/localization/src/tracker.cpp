@@ -118,19 +118,26 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
     return sol;
 }
 
-void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
-    fusion::FrameState pv = f.prev, c = sol.state;
-    fusion::FrameProblemInputs in;
+Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fusion::FrameState& cur,
+                                        const imu::Preintegration* imu, const LocalizerParams& params,
+                                        const Vec3d& g_map)
+    : pv(prev), c(cur) {
+    // The IMU chain as it really errs (ActiveFusionParams::estimate_imu_scale), not as the
+    // solver's inflated noise would have it.
+    const double s = params.fusion.active.estimate_imu_scale;
+    if (imu) est_imu = imu->withNoiseScale(s);
     in.prev = &pv;
     in.cur = &c;
-    // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
-    const double s = params_.fusion.active.estimate_imu_scale;
-    std::optional<imu::Preintegration> est_imu;
-    if (f.pred.used_imu && !f.first) est_imu = f.pre.withNoiseScale(s);
     in.imu = est_imu ? &*est_imu : nullptr;
-    in.g_map = g_map_;
-    in.acc_bias_rw = s * params_.imu.acc_bias_rw;
-    in.gyro_bias_rw = s * params_.imu.gyro_bias_rw;
+    in.g_map = g_map;
+    in.acc_bias_rw = s * params.imu.acc_bias_rw;
+    in.gyro_bias_rw = s * params.imu.gyro_bias_rw;
+}
+
+void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
+    // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
+    EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_, g_map_);
+    fusion::FrameProblemInputs& in = w.in;
     if (sol.prior && !f.first) {
         in.prior = *sol.prior;
         if (sol.prior->worth) in.prior->sqrt_info = fusion::sqrtInfo(*sol.prior->worth);
@@ -147,19 +154,8 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     // What the estimate knows without odom_alt, carried from the last frame through the IMU
     // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it.
     const auto t_est = Clock::now();
-    fusion::FrameState pv = f.prev, c = sol.state;
-    fusion::FrameProblemInputs in;
-    in.prev = &pv;
-    in.cur = &c;
-    // The IMU chain as it really errs (ActiveFusionParams::estimate_imu_scale), not as the
-    // solver's inflated noise would have it.
-    const double s = params_.fusion.active.estimate_imu_scale;
-    std::optional<imu::Preintegration> est_imu;
-    if (imu) est_imu = imu->withNoiseScale(s);
-    in.imu = est_imu ? &*est_imu : nullptr;
-    in.g_map = g_map_;
-    in.acc_bias_rw = s * params_.imu.acc_bias_rw;
-    in.gyro_bias_rw = s * params_.imu.gyro_bias_rw;
+    EstimateWindow w(f.prev, sol.state, imu, params_, g_map_);
+    fusion::FrameProblemInputs& in = w.in;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);
     rep.ms.risk += msSince(t_est);

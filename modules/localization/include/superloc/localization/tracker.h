@@ -128,6 +128,17 @@ class Tracker {
     /// What the estimate knows without odom_alt (the weak-axis decision, doc/method.md §2).
     fusion::EstimateInformation est_info_{std::pow(std::sin(params_.risk.normal_noise_deg * M_PI / 180), 2),
                                           params_.risk.weak_sigma_xyz};
+    /// The estimate's and the pose covariance's IMU window from `prev` to `cur` (copies): the
+    /// IMU chain at estimate_imu_scale of [imu]'s noise (`imu` null: none).
+    struct EstimateWindow {
+        EstimateWindow(const fusion::FrameState& prev, const fusion::FrameState& cur, const imu::Preintegration* imu,
+                       const LocalizerParams& params, const Vec3d& g_map);
+        EstimateWindow(const EstimateWindow&) = delete;
+        EstimateWindow& operator=(const EstimateWindow&) = delete;
+        fusion::FrameState pv, c;
+        std::optional<imu::Preintegration> est_imu;
+        fusion::FrameProblemInputs in;
+    };
     /// The reported pose's covariance (doc/method.md §4): scan, IMU window and odom_alt together.
     fusion::PosePosterior post_;
     std::optional<double> blind_since_;  ///< [s] since when a weak axis is held by nothing measured
