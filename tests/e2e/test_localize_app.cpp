@@ -4,6 +4,8 @@
 // from no pose; plus the command-line contract (help, dump-config, errors, outputs). The
 // accuracy bounds are the split's (RealSplitRuns.* and doc/results.md have the analysis).
 #include <gtest/gtest.h>
+#include <Eigen/Eigenvalues>
+#include <superloc/eval/evaluation.h>
 #include <nlohmann/json.hpp>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
@@ -90,6 +92,26 @@ TEST_F(KittiFixture, OddScansLocalizedFromFirstGtPose) {
     EXPECT_NEAR(summary["ate_rmse_vs_rawlog_gt"].get<double>(), s.ate_rmse, 1e-9);
     EXPECT_NEAR(summary["ms_per_frame_p95"].get<double>(), s.ms_p95, 1e-9);
     EXPECT_EQ(summary["frames_flagged_per_axis"].size(), 6u);
+    // The pose's covariance (doc/method.md §4): summary.json's std, frames.csv's columns and
+    // trajectory_cov.txt's 6 x 6 per pose, symmetric positive definite on every frame not lost,
+    // the same position block in both, and superloc-eval's NEES read from them.
+    EXPECT_GT(summary["pose_sigma_xyz_m"]["median"].get<double>(), 0.005);
+    EXPECT_LT(summary["pose_sigma_xyz_m"]["median"].get<double>(), 0.2);
+    const eval::FrameLog log = eval::loadFrameLog(out + "/frames.csv");
+    ASSERT_TRUE(log.has_cov);
+    ASSERT_TRUE(log.has_cov6);
+    for (const auto& f : log.frames) {
+        if (f.health == "lost") continue;
+        ASSERT_TRUE(f.cov6.has_value());
+        const Mat6d& C = *f.cov6;
+        EXPECT_LT((C - C.transpose()).cwiseAbs().maxCoeff(), 1e-9 * C.cwiseAbs().maxCoeff()) << f.t;
+        EXPECT_GT(Eigen::SelfAdjointEigenSolver<Mat6d>(C).eigenvalues().minCoeff(), 0.0) << f.t;
+        EXPECT_LT((C.topLeftCorner<3, 3>() - *f.cov_pos).cwiseAbs().maxCoeff(), 1e-5 * C.trace()) << f.t;
+        EXPECT_GT(f.sigma_rot_deg->minCoeff(), 0.0) << f.t;
+    }
+    const auto cons = eval::consistency(io::loadTum(out + "/trajectory.tum"), io::loadTum(gt), log, 0.02);
+    EXPECT_GT(cons.frames(), 0u);
+    EXPECT_TRUE(std::isfinite(cons.anees_pos));
     std::cout << "kitti00-mini from GT start: ATE " << s.ate_rmse << " m, median " << s.ms_median
               << " ms\n";
 }

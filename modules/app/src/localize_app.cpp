@@ -13,6 +13,8 @@
 #include <superloc/localization/map_tile_follower.h>
 #include <superloc/app/ini_sections.h>
 #include <superloc/app/localize_app.h>
+
+#include <Eigen/Eigenvalues>
 #include <superloc/app/observability_scan.h>
 
 #include <chrono>
@@ -259,7 +261,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     summary_.map_points = prior->size();
     summary_.map_prepare_s = prior->prepareSeconds();
     summary_.map_points_max = prior->size();
-    std::vector<double> ms, cpu, st[5];
+    std::vector<double> ms, cpu, st[5], sigma_xyz, sigma_deg;
     Trajectory est, gt;
     io::RawlogItem item;
     bool in_divergence = false;
@@ -283,6 +285,13 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         summary_.ms_mean = wall.mean_ms;
         summary_.fps = wall.fps;
         summary_.cpu_ms_median = eval::median(cpu);
+        for (auto* v : {&sigma_xyz, &sigma_deg}) {
+            auto& out = v == &sigma_xyz ? summary_.sigma_xyz : summary_.sigma_deg;
+            if (v->empty()) continue;
+            std::vector<double> s = *v;
+            std::sort(s.begin(), s.end());
+            out = {s[s.size() / 2], s[std::min(s.size() - 1, s.size() * 95 / 100)], s.back()};
+        }
         summary_.stage_median = {eval::median(st[0]), eval::median(st[1]), eval::median(st[2]),
                                  eval::median(st[3]), eval::median(st[4]), summary_.ms_median};
         // ATE against the rawlog's own ground truth, when it has one (same frame as the output,
@@ -339,6 +348,14 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     summary_.with_prior += r.prior_used;
                     summary_.recovered += r.recovered;
                     summary_.health[static_cast<size_t>(r.health)]++;
+                    if (r.health != localization::Health::Lost && r.cov.trace() > 0) {
+                        // The pose's largest std (doc/method.md §4) over the run, frames not lost.
+                        const auto largest = [](const Mat3d& C) {
+                            return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(C).eigenvalues()[2]));
+                        };
+                        sigma_xyz.push_back(largest(r.cov.topLeftCorner<3, 3>()));
+                        sigma_deg.push_back(largest(r.cov.bottomRightCorner<3, 3>()) * 180.0 / M_PI);
+                    }
                     const bool flagged = !r.degenerate_axes.empty();
                     summary_.flagged += flagged;
                     summary_.flagged_without_prior += flagged && !r.prior_used;

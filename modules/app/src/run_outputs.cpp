@@ -196,6 +196,8 @@ io::Json summaryJson(const RunSummary& s) {
             {"map_points_max", s.map_points_max},
             {"map_reload_s_max", s.map_reload_s_max},
             {"map_reload_wait_s_max", s.map_reload_wait_s_max},
+            {"pose_sigma_xyz_m", {{"median", orNull(s.sigma_xyz[0])}, {"p95", orNull(s.sigma_xyz[1])}, {"max", orNull(s.sigma_xyz[2])}}},
+            {"pose_sigma_deg", {{"median", orNull(s.sigma_deg[0])}, {"p95", orNull(s.sigma_deg[1])}, {"max", orNull(s.sigma_deg[2])}}},
             {"gt_frames_matched", s.gt_matched},
             {"ate_rmse_vs_rawlog_gt", orNull(s.ate_rmse)},
             {"ate_max_vs_rawlog_gt", orNull(s.ate_max)},

@@ -64,6 +64,8 @@ struct RunSummary {
     // Against the rawlog's ground truth when it has one (frames matched by time).
     size_t gt_matched = 0;
     double ate_rmse = -1, ate_max = -1;  ///< [m], -1 when no ground truth
+    /// The pose's largest std over the frames not lost (median, p95, max) [m] and [deg]; -1: none.
+    std::array<double, 3> sigma_xyz{-1, -1, -1}, sigma_deg{-1, -1, -1};
 };
 
 /// summary.json's content (non-finite numbers left as they are: io::saveJson writes them as
