@@ -77,8 +77,8 @@ TEST(RunReport, FiguresFromTheFramesAndTheSummary) {
     const std::string html = rep.html(summary, "run-dir");
     expectSelfContained(html);
     EXPECT_EQ(html.rfind("<!DOCTYPE html>", 0), 0u);
-    EXPECT_EQ(count(html, "<figure"), 4u);
-    EXPECT_EQ(count(html, "<svg "), 4u);
+    EXPECT_EQ(count(html, "<figure"), 5u);  // top view, flags, prior, sigma, timing
+    EXPECT_EQ(count(html, "<svg "), 5u);
     EXPECT_EQ(html.find("<?xml"), std::string::npos);  // inline SVG, no XML declaration
     EXPECT_NE(html.find("20 frames: 10 ok, 5 degraded, 5 lost"), std::string::npos);
     EXPECT_NE(html.find("a&lt;b.rawlog"), std::string::npos);

@@ -68,7 +68,7 @@ TEST(ReportBrowser, ARunsReportRendersWithoutErrors) {
     // The DOM after the page's scripts ran: every figure drawn, no script error.
     ASSERT_TRUE(browse(browser, d, page, {"--dump-dom"}, d + "/dom.txt").ok()) << slurp(d + "/dom.txt");
     const std::string dom = slurp(d + "/dom.txt");
-    EXPECT_NE(dom.find("<body data-report=\"drawn 4\">"), std::string::npos) << dom.substr(0, 3000);
+    EXPECT_NE(dom.find("<body data-report=\"drawn 5\">"), std::string::npos) << dom.substr(0, 3000);
     EXPECT_NE(dom.find("<pre id=\"errors\"></pre>"), std::string::npos);
     EXPECT_EQ(dom.find("data-script-error=\""), std::string::npos);
     EXPECT_NE(dom.find("10 frames: 10 ok, 0 degraded, 0 lost"), std::string::npos);

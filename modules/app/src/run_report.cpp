@@ -1,5 +1,7 @@
 #include <superloc/app/report_plots.h>
 #include <superloc/app/run_report.h>
+
+#include <Eigen/Eigenvalues>
 #include <superloc/app/svg_plot.h>
 #include <superloc/eval/timing.h>
 
@@ -204,6 +206,29 @@ SvgPlot timingTimeline(const std::vector<ReportFrame>& frames, const std::vector
     return p;
 }
 
+/// The pose's largest std over time (log scale, 1 mm to 10 m / 0.001 deg to 100 deg).
+SvgPlot sigmaTimeline(const std::vector<ReportFrame>& frames, const std::vector<double>& ts) {
+    const double span = std::max(ts.empty() ? 1.0 : ts.back(), 1e-3);
+    SvgPlot p(kWidth, 250, "The pose's std over time (its covariance's largest, doc/method.md §4)");
+    p.setRange(0, span, -3, 2);
+    p.axes("time since the first frame [s]", "log10 std",
+           {{-3, "0.001"}, {-2, "0.01"}, {-1, "0.1"}, {0, "1"}, {1, "10"}, {2, "100"}});
+    std::vector<double> t, xyz, deg;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        if (!(frames[i].sigma_xyz > 0)) continue;
+        t.push_back(ts[i]);
+        xyz.push_back(std::clamp(std::log10(frames[i].sigma_xyz), -3.0, 2.0));
+        deg.push_back(std::clamp(std::log10(std::max(frames[i].sigma_deg, 1e-6)), -3.0, 2.0));
+    }
+    std::vector<double> tt, vv;
+    thin(t, xyz, kMaxLinePoints, tt, vv);
+    p.polyline(tt, vv, seriesColor(0), 1.2);
+    thin(t, deg, kMaxLinePoints, tt, vv);
+    p.polyline(tt, vv, seriesColor(1), 1.2);
+    p.legend({{"position [m]", seriesColor(0)}, {"rotation [deg]", seriesColor(1)}});
+    return p;
+}
+
 /// summary.json as rows "key.sub = value", in its order.
 void flatten(const io::Json& j, const std::string& prefix, std::string& rows) {
     if (j.is_object()) {
@@ -284,6 +309,13 @@ void RunReport::addFrame(const localization::FrameReport& r, const SE3d& T) {
     f.prior_used = r.prior_used;
     for (int k = 0; k < 6; ++k) f.prior_w[k] = r.prior_weight[k];
     f.ms = r.ms.total;
+    if (r.cov.trace() > 0) {
+        const auto largest = [](const Mat3d& C) {
+            return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(C).eigenvalues()[2]));
+        };
+        f.sigma_xyz = largest(r.cov.topLeftCorner<3, 3>());
+        f.sigma_deg = largest(r.cov.bottomRightCorner<3, 3>()) * 180.0 / M_PI;
+    }
     frames_.push_back(f);
 }
 
@@ -296,6 +328,7 @@ std::string RunReport::html(const io::Json& summary, const std::string& title) c
     const SvgPlot flags = flagsTimeline(frames_, ts, half);
     const SvgPlot prior = priorTimeline(frames_, ts, prior_values);
     const SvgPlot timing = timingTimeline(frames_, ts);
+    const SvgPlot sigma = sigmaTimeline(frames_, ts);
 
     const auto get = [&](const char* a, const char* b = nullptr) -> io::Json {
         if (!summary.contains(a)) return nullptr;
@@ -339,6 +372,10 @@ std::string RunReport::html(const io::Json& summary, const std::string& title) c
                     : std::string("log10 of the diagonal information of the odom_alt relative-pose prior in each "
                                   "frame's solve (frames.csv <code>prior_w_x … prior_w_yaw</code>); no line where "
                                   "an axis had no weight or the frame no prior (<code>prior_used</code> 0)."));
+    h += figure("sigma", {sigma},
+                "The pose's largest std over time, position [m] and rotation [deg], log scale (frames.csv "
+                "<code>cov_*</code>, <code>sigma_*</code>); above [health] max_sigma_xyz / max_sigma_deg a "
+                "frame is degraded (doc/health.md).");
     h += figure("timing", {timing},
                 "Wall time of each frame (frames.csv <code>ms_total</code>), the median dashed. Measured on the "
                 "machine of the run, with whatever else ran on it.");

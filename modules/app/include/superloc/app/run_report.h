@@ -35,6 +35,7 @@ struct ReportFrame {
     bool prior_used = false;
     std::array<double, 6> prior_w{};   ///< diagonal information of the odom_alt prior
     double ms = 0;                     ///< wall time of the frame
+    double sigma_xyz = 0, sigma_deg = 0;  ///< the pose's largest std [m], [deg] (0: none)
 };
 
 class RunReport {
