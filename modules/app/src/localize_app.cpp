@@ -1,5 +1,6 @@
 #include <CLI/CLI.hpp>
 #include <mrpt/config/CConfigFileBase.h>
+#include <superloc/fusion/pose_posterior.h>
 #include <superloc/app/command_line.h>
 #include <superloc/core/config.h>
 #include <superloc/core/errors.h>
@@ -14,7 +15,6 @@
 #include <superloc/app/ini_sections.h>
 #include <superloc/app/localize_app.h>
 
-#include <Eigen/Eigenvalues>
 #include <superloc/app/observability_scan.h>
 
 #include <chrono>
@@ -350,11 +350,8 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     summary_.health[static_cast<size_t>(r.health)]++;
                     if (r.health != localization::Health::Lost && r.cov.trace() > 0) {
                         // The pose's largest std (doc/method.md §4) over the run, frames not lost.
-                        const auto largest = [](const Mat3d& C) {
-                            return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(C).eigenvalues()[2]));
-                        };
-                        sigma_xyz.push_back(largest(r.cov.topLeftCorner<3, 3>()));
-                        sigma_deg.push_back(largest(r.cov.bottomRightCorner<3, 3>()) * 180.0 / M_PI);
+                        sigma_xyz.push_back(fusion::largestStd(r.cov.topLeftCorner<3, 3>()));
+                        sigma_deg.push_back(fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) / kDeg);
                     }
                     const bool flagged = !r.degenerate_axes.empty();
                     summary_.flagged += flagged;

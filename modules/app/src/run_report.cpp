@@ -1,7 +1,8 @@
+#include <superloc/core/se3.h>
+#include <superloc/fusion/pose_posterior.h>
 #include <superloc/app/report_plots.h>
 #include <superloc/app/run_report.h>
 
-#include <Eigen/Eigenvalues>
 #include <superloc/app/svg_plot.h>
 #include <superloc/eval/timing.h>
 
@@ -310,11 +311,8 @@ void RunReport::addFrame(const localization::FrameReport& r, const SE3d& T) {
     for (int k = 0; k < 6; ++k) f.prior_w[k] = r.prior_weight[k];
     f.ms = r.ms.total;
     if (r.cov.trace() > 0) {
-        const auto largest = [](const Mat3d& C) {
-            return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(C).eigenvalues()[2]));
-        };
-        f.sigma_xyz = largest(r.cov.topLeftCorner<3, 3>());
-        f.sigma_deg = largest(r.cov.bottomRightCorner<3, 3>()) * 180.0 / M_PI;
+        f.sigma_xyz = fusion::largestStd(r.cov.topLeftCorner<3, 3>());
+        f.sigma_deg = fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) / kDeg;
     }
     frames_.push_back(f);
 }

@@ -38,6 +38,8 @@ struct CappedCovariance {
 };
 }  // namespace
 
+Mat6d cappedCovariance(const Mat6d& info) { return CappedCovariance(info).C; }
+
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
     Mat6d S = Mat6d::Zero();
     S.topLeftCorner<3, 3>() = noiseScale(H.topLeftCorner<3, 3>(), floor_share);

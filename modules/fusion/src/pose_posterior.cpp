@@ -25,15 +25,12 @@ Mat6d relativeJacobianPrev(const SE3d& T_rel) {
     return J;
 }
 
+double largestStd(const Mat3d& C) {
+    return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(0.5 * (C + C.transpose())).eigenvalues()[2]));
+}
+
 Mat6d PosePosterior::covariance(const Mat6d& info) const {
-    const Eigen::SelfAdjointEigenSolver<Mat6d> es(0.5 * (info + info.transpose()));
-    const double min_info = 1.0 / (kMaxSigma * kMaxSigma);
-    Mat6d C = Mat6d::Zero();
-    for (int i = 0; i < 6; ++i) {
-        const double l = es.eigenvalues()[i];
-        C.noalias() += es.eigenvectors().col(i) * es.eigenvectors().col(i).transpose() /
-                       (std::isfinite(l) ? std::max(min_info, l) : min_info);
-    }
+    Mat6d C = cappedCovariance(info);
     C.diagonal() += floor_.cwiseAbs2();
     return 0.5 * (C + C.transpose());
 }

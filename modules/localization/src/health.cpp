@@ -1,6 +1,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
+#include <superloc/fusion/pose_posterior.h>
 #include <superloc/localization/frame_report.h>
 #include <superloc/localization/health.h>
 
@@ -105,11 +106,8 @@ HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
     for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p_.weak_gamma;
     // The pose's std: the largest over directions (the covariance's largest eigenvalue per
     // group); a frame without a covariance (zero) passes.
-    const auto largest = [](const Eigen::Matrix3d& C) {
-        return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(C).eigenvalues()[2]));
-    };
-    c.sigma_xyz = largest(r.cov.topLeftCorner<3, 3>()) > p_.max_sigma_xyz;
-    c.sigma_rot = largest(r.cov.bottomRightCorner<3, 3>()) > p_.max_sigma_deg * kDeg;
+    c.sigma_xyz = fusion::largestStd(r.cov.topLeftCorner<3, 3>()) > p_.max_sigma_xyz;
+    c.sigma_rot = fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) > p_.max_sigma_deg * kDeg;
     c.dead_reckoning = r.dead_reckoning_s > p_.max_dead_reckoning_s;
     c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
     c.drift = r.used_imu && p_.drift_window > 0 && r.imu_drift_deg > p_.max_drift_deg;

@@ -107,7 +107,10 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
     }
     // Step 6: report.
     finish(f, f.pred, velocity_unknown, sol, rep);
-    if (variant_.registration != RegistrationKind::Ndt && !rep.diverged) posterior(f, sol, rep);
+    if (variant_.registration != RegistrationKind::Ndt && !rep.diverged)
+        posterior(f, sol, rep);
+    else
+        scanCovariance(sol, rep);
     // How long the scan has left a translation axis to the prediction alone (HealthMonitor).
     const double hold = 1.0 / std::pow(params_.health.max_sigma_xyz / 10.0, 2);
     bool blind = false;
@@ -132,6 +135,14 @@ Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fu
     in.g_map = g_map;
     in.acc_bias_rw = s * params.imu.acc_bias_rw;
     in.gyro_bias_rw = s * params.imu.gyro_bias_rw;
+}
+
+void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
+    const auto t0 = Clock::now();
+    const double n = params_.risk.normal_noise_deg * kDeg;
+    rep.cov = post_.covariance(fusion::informationAboveNoise(
+        fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), std::pow(std::sin(n), 2)));
+    rep.ms.risk += msSince(t0);
 }
 
 void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
@@ -211,6 +222,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     Prediction p = frame_pred ? *frame_pred : Prediction{};
     p.T_map_imu = start.T_map_imu();
     finish(f, p, true, sol, r);
+    scanCovariance(sol, r);  // a verified pose: its own scan's (doc/method.md §4)
     r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
     r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
     return sol;
@@ -272,13 +284,7 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
     }
     rep.T_map_imu = T;
     rep.T_map_lidar = T * scan.T_imu_lidar;
-    // The pose's covariance from this solve's scan alone (a tracked frame's posterior replaces
-    // it: posterior()), and the axes the scan holds weakly.
-    const auto t_cov = Clock::now();
-    const double n = params_.risk.normal_noise_deg * kDeg;
-    rep.cov = post_.covariance(fusion::informationAboveNoise(
-        fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma), std::pow(std::sin(n), 2)));
-    rep.ms.risk += msSince(t_cov);
+    // The axes the scan holds weakly (the pose's covariance: posterior() or scanCovariance()).
     std::array<bool, 6> weak{};
     for (int k = 0; k < 6; ++k) weak[k] = rep.gamma[k] < params_.health.weak_gamma;
     rep.weak_axes = risk::axisLetters(weak);

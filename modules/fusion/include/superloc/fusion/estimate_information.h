@@ -50,6 +50,9 @@ struct Weakness {
     bool any() const;
 };
 inline constexpr double kMaxSigma = 1e3;
+/// The covariance of an information matrix with its unheld directions at kMaxSigma (a
+/// pseudo-inverse that stays finite; weakness() and PosePosterior use it).
+Mat6d cappedCovariance(const Mat6d& info);
 Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma);
 
 class EstimateInformation {

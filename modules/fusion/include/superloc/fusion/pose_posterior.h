@@ -68,6 +68,10 @@ class PosePosterior {
 /// map's fixed axes, order (x y z rotX rotY rotZ) — geometry_msgs/PoseWithCovariance.
 Mat6d toReported(const Mat6d& C, const SE3d& T_map_imu, const SE3d& T_imu_out);
 
+/// The largest std of a 3 x 3 covariance block (its largest eigenvalue's root): the pose's std
+/// that health, summary.json and report.html give.
+double largestStd(const Mat3d& C);
+
 /// The Jacobian of toVec6(delta^-1 T_prev^-1 T_cur) w.r.t. a right perturbation of T_prev at a
 /// zero residual (T_rel = T_prev^-1 T_cur): [[-R^T, R^T [t]x], [0, -R^T]] with R, t of T_rel;
 /// w.r.t. the current pose's it is the identity.

@@ -145,6 +145,9 @@ class Tracker {
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
     void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
+    /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
+    /// scan alone, above its noise floor (doc/method.md §4).
+    void scanCovariance(const FrameSolution& sol, FrameReport& rep) const;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;
