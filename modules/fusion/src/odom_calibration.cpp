@@ -1,6 +1,7 @@
 #include <superloc/core/se3.h>
 #include <superloc/fusion/odom_calibration.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -32,6 +33,22 @@ void OdomCalibration::solve(Axis& a, bool rotation) const {
 }
 
 void OdomCalibration::fitWorth(Axis& a) const {
+    // Per block length: the share k of the correction that predicted best out of sample,
+    // k = sum(e c) / sum(c^2) clamped to [0, 1] (e: the raw error over a block, c: what the fit
+    // of the block's start predicted), with one pseudo-block in which the correction was right
+    // (k = 1 until the blocks say otherwise). Then what that shrunk correction left,
+    // e2 = sum (e - k c)^2, by block length.
+    std::array<double, 7> e2{};
+    for (size_t h = 0; h < a.blocks.size(); ++h) {
+        a.shrink[h] = 1.0;
+        if (a.cnt[h] < p_.min_blocks - 1e-9 || !(a.len[h] > 0)) continue;
+        if (a.cc[h] > 0) {
+            const double prior = a.cc[h] / a.cnt[h];
+            a.shrink[h] = std::clamp((a.ec[h] + prior) / (a.cc[h] + prior), 0.0, 1.0);
+        }
+        const double k = a.shrink[h];
+        e2[h] = std::max(0.0, a.ee[h] - 2.0 * k * a.ec[h] + k * k * a.cc[h]);
+    }
     // Weighted least squares of q = V / L = wa + wb L over the block lengths with enough blocks,
     // weights n / q^2 (each mean squared error is known to a relative precision ~ 1 / sqrt(n)).
     double s00 = 0, s01 = 0, s11 = 0, r0 = 0, r1 = 0;
@@ -39,7 +56,7 @@ void OdomCalibration::fitWorth(Axis& a) const {
     for (size_t h = 0; h < a.blocks.size(); ++h) {
         if (a.cnt[h] < p_.min_blocks - 1e-9 || !(a.len[h] > 0)) continue;
         const double L = a.len[h] / a.cnt[h];
-        const double q = std::max(1e-18, a.e2[h] / a.cnt[h] / L);
+        const double q = std::max(1e-18, e2[h] / a.cnt[h] / L);
         const double w = a.cnt[h] / (q * q);
         s00 += w, s01 += w * L, s11 += w * L * L, r0 += w * q, r1 += w * q * L;
         ++used;
@@ -58,6 +75,18 @@ void OdomCalibration::fitWorth(Axis& a) const {
     }
     a.wa = wa;
     a.wb = wb;
+}
+
+double OdomCalibration::shrinkAt(const Axis& a, double D) const {
+    // The blocks of length H measure the correction over 0..H metres after a check; a frame at D
+    // metres since the check is nearest to the middle of a block of 2 D.
+    double k = 1.0;
+    for (size_t h = 0; h < a.blocks.size(); ++h) {
+        if (a.cnt[h] < p_.min_blocks - 1e-9) continue;
+        k = a.shrink[h];
+        if (p_.horizons[h] >= 2.0 * D) break;
+    }
+    return k;
 }
 
 std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, const std::array<bool, 6>& held) {
@@ -91,7 +120,8 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
                 // worth is kept: it just failed, and its blocks say by how much.
                 Axis fresh;
                 fresh.blocks = a.blocks;
-                fresh.e2 = a.e2, fresh.len = a.len, fresh.cnt = a.cnt;
+                fresh.ee = a.ee, fresh.ec = a.ec, fresh.cc = a.cc, fresh.len = a.len, fresh.cnt = a.cnt;
+                fresh.shrink = a.shrink;
                 fresh.wa = a.wa, fresh.wb = a.wb, fresh.worth = a.worth;
                 a = fresh;
                 ++restarts_[k];
@@ -104,13 +134,17 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
         const bool cal = calibrated(k);
         for (size_t h = 0; h < a.blocks.size(); ++h) {
             auto& b = a.blocks[h];
-            a.e2[h] *= forget, a.len[h] *= forget, a.cnt[h] *= forget;
+            a.ee[h] *= forget, a.ec[h] *= forget, a.cc[h] *= forget;
+            a.len[h] *= forget, a.cnt[h] *= forget;
             if (!b.open && !cal) continue;
-            if (!b.open) b = Axis::Block{true, a.x, 0.0, 0.0};
-            b.S += r - reg.dot(b.x0);
+            if (!b.open) b = Axis::Block{true, a.x, 0.0, 0.0, 0.0};
+            b.S += r;
+            b.C += reg.dot(b.x0);
             b.L += d;
             if (b.L >= p_.horizons[h]) {
-                a.e2[h] += b.S * b.S;
+                a.ee[h] += b.S * b.S;
+                a.ec[h] += b.S * b.C;
+                a.cc[h] += b.C * b.C;
                 a.len[h] += b.L;
                 a.cnt[h] += 1.0;
                 b.open = false;
@@ -134,10 +168,11 @@ SE3d OdomCalibration::correct(const SE3d& odom) const {
     const double d = odom.translation().norm();
     Vec3d t = odom.translation(), phi = logSO3(odom.linear());
     for (int k = 0; k < 3; ++k)
-        if (calibrated(k)) t[k] -= axes_[k].x[0] * d;
+        if (calibrated(k)) t[k] -= shrinkAt(axes_[k], axes_[k].since_m) * axes_[k].x[0] * d;
     for (int k = 0; k < 3; ++k)
         if (calibrated(3 + k)) {
-            const auto& x = axes_[3 + k].x;
+            const auto& a = axes_[3 + k];
+            const Eigen::Vector2d x = shrinkAt(a, a.since_m) * a.x;
             phi[k] = (phi[k] - x[1] * d) / std::max(0.1, 1.0 + x[0]);
         }
     SE3d out = SE3d::Identity();
@@ -161,6 +196,12 @@ Vec6d OdomCalibration::sigma(const SE3d& odom) const {
         s[k] = std::max(floor, std::sqrt(std::max(0.0, var)));
     }
     return s;
+}
+
+Vec6d OdomCalibration::shrink() const {
+    Vec6d v;
+    for (int k = 0; k < 6; ++k) v[k] = shrinkAt(axes_[k], axes_[k].since_m);
+    return v;
 }
 
 Vec6d OdomCalibration::worthA() const {

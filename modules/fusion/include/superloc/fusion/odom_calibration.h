@@ -24,6 +24,14 @@
 // frames of a blind stretch, the fused odometry is as sure as it has shown it can be over that
 // stretch, and no surer. A wandering or changed error shows in the longer blocks at once; a
 // fixed one, once fitted, leaves small errors at every length.
+//
+// How much of the correction to apply is measured the same way: per block length, the share k
+// of the correction that best predicted the raw error out of sample (sum(e c) / sum(c^2) over the
+// blocks, clamped to [0, 1], with one pseudo-block where the correction was right). A fixed
+// error keeps k ~ 1; a correction learned from an error that has since wandered (a fit restarted
+// on a recent stretch) is applied only in part, at D metres since the check the share of the
+// blocks of 2 D (the longest measured beyond that), and V(D) is fitted to what the shrunk
+// correction left.
 #pragma once
 
 #include <superloc/core/types.h>
@@ -58,6 +66,10 @@ class OdomCalibration {
     /// odom_alt's motion with the fitted systematic error removed (axes without a usable fit
     /// are left as they are).
     SE3d correct(const SE3d& odom) const;
+
+    /// The share [0, 1] of the fitted correction applied on each axis now (its distance since
+    /// held); 1 where not measured yet.
+    Vec6d shrink() const;
 
     /// Per-frame std of the corrected motion per axis, for a frame of odom_alt motion `odom`
     /// taken at the distance since the scan last held each axis (out of sample, above); NaN
@@ -99,16 +111,21 @@ class OdomCalibration {
         struct Block {
             bool open = false;
             Eigen::Vector2d x0 = Eigen::Vector2d::Zero();  ///< the correction when it began
-            double S = 0, L = 0;                           ///< error left, held travel
+            double S = 0, C = 0, L = 0;  ///< raw error, the correction's prediction, held travel
         };
         std::array<Block, 7> blocks;
-        std::array<double, 7> e2{}, len{}, cnt{};
+        /// Per block length, forgotten sums over the closed blocks: raw error squared, raw error
+        /// times the correction's prediction, prediction squared; held travel; count.
+        std::array<double, 7> ee{}, ec{}, cc{}, len{}, cnt{};
+        std::array<double, 7> shrink{1, 1, 1, 1, 1, 1, 1};  ///< the correction's share per block length, [0, 1]
         double wa = 0, wb = 0;  ///< V(D) = wa D + wb D^2
         bool worth = false;
         double since_m = 0;     ///< travel since the scan last held the axis (not reset by a restart)
     };
     void solve(Axis& a, bool rotation) const;
     void fitWorth(Axis& a) const;
+    /// The share of the fitted correction applied at `D` metres since the axis was held.
+    double shrinkAt(const Axis& a, double D) const;
 
 
     OdomCalibrationParams p_;
