@@ -1,14 +1,12 @@
 // Stand-ins for the apps superloc-bench runs (shell scripts honouring their command lines), so
-// that the suite logic is tested without the real simulator and localizer, and the comparisons
-// of two benchmark outputs without what is measured. Used by test_bench_app.cpp and
-// test_bench_plan.cpp.
+// that the suite logic is tested without the real simulator and localizer. Used by
+// test_bench_app.cpp and test_bench_plan.cpp.
 #pragma once
 
 #include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 namespace superloc::testing::bench {
@@ -17,12 +15,6 @@ namespace fs = std::filesystem;
 inline void writeScript(const std::string& path, const std::string& body) {
     std::ofstream(path) << "#!/bin/sh\n" << body;
     ::chmod(path.c_str(), 0755);
-}
-inline std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
 }
 
 // Argument parsing shared by the stand-ins: sets OUT, METHOD, GT from the flags; --dump-config

@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 using namespace superloc::testing::bench;
 using superloc::testing::resultsJsonWithoutTimes;
 using superloc::testing::resultsMarkdownWithoutTimes;
+using superloc::testing::slurp;
 
 TEST(BenchApp, RunsASuiteWithStandInTools) {
     const std::string d = superloc::testing::freshDir("bench_app");

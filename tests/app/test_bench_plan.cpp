@@ -19,6 +19,7 @@ using namespace superloc::app;
 using namespace superloc::testing::bench;
 using superloc::testing::resultsJsonWithoutTimes;
 using superloc::testing::resultsMarkdownWithoutTimes;
+using superloc::testing::slurp;
 namespace fs = std::filesystem;
 
 namespace {
@@ -137,7 +138,7 @@ TEST(BenchPlan, ParallelThenCollectGiveTheResultsOfOneJob) {
     const std::string md1 = slurp(d + "/one/results.md"), md2 = slurp(split + "/results.md");
     EXPECT_EQ(resultsMarkdownWithoutTimes(md2), resultsMarkdownWithoutTimes(md1));
     EXPECT_NE(resultsMarkdownWithoutTimes(md2).find("| hall | stop | exit 3 | 6/11 |"), std::string::npos) << md2;
-    EXPECT_NE(md2.find("Collected (--collect) from runs made one by one (--run)"), std::string::npos) << md2;
+    EXPECT_NE(md2.find("Collected (--collect) from runs made one by one (--run); hosts "), std::string::npos) << md2;
     const std::string js1 = slurp(d + "/one/results.json"), js2 = slurp(split + "/results.json");
     EXPECT_EQ(resultsJsonWithoutTimes(js2), resultsJsonWithoutTimes(js1));
     EXPECT_TRUE(nlohmann::json::parse(js2)["jobs"].is_null());  // not known: parallel decided

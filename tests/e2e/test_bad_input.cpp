@@ -525,13 +525,14 @@ std::vector<BadInput> cases() {
                  {"--run: '2' is not a run of this plan", "index 0-1"}});
     c.push_back({"BenchRunWithoutId", B, planned({"--run"}), 1, {"--run"}});
     c.push_back({"BenchRunWithoutPlan", B, unplanned({"--run", "0"}), 1,
-                 {"--run: no plan in", "plan.json", "--plan"}});
+                 {"--run:", "/b/plan.json does not exist: make the plan first", "--plan)"}});
     c.push_back({"BenchRunBeforeItsData", B, planned({"--run", "office/icp"}), 1,
                  {"--run office/icp: its data is not ready", "data:office has not finished",
                   "run data:office (0) first"}});
     c.push_back({"BenchRunOtherMethodsThanPlanned", B, planned({"--run", "0", "--methods", "icp superloc"}), 1,
                  {"--run:", "plan.json plans other runs (2) than this command line (3)", "--methods"}});
-    c.push_back({"BenchCollectWithoutPlan", B, unplanned({"--collect"}), 1, {"--collect: no plan in", "--plan"}});
+    c.push_back({"BenchCollectWithoutPlan", B, unplanned({"--collect"}), 1,
+                 {"--collect:", "/b/plan.json does not exist", "--plan)"}});
     c.push_back({"BenchPlanWithJobs", B, unplanned({"--plan", "--jobs", "2"}), 1,
                  {"--jobs: not with --plan", "parallel -j N"}});
     c.push_back({"BenchRunWithJobs", B, unplanned({"--run", "0", "--jobs", "2"}), 1, {"--jobs: not with --run"}});

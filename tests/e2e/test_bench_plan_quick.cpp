@@ -14,20 +14,11 @@
 #include <superloc_testing/testing.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace fs = std::filesystem;
 using namespace superloc::app;
 
-namespace {
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-}  // namespace
+using superloc::testing::slurp;
 
 TEST(BenchQuick, PlanThroughParallelGivesTheResultsOfOneJob) {
     if (findTool("parallel", "/nonexistent").empty())

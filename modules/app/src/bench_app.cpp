@@ -438,12 +438,12 @@ void BenchApp::writeResults() const {
         const auto list = [](const std::map<std::string, size_t>& m) {
             std::string s;
             for (const auto& [name, n] : m)
-                s += (s.empty() ? "" : ", ") + name + " (" + std::to_string(n) + ")";
+                s += (s.empty() ? "" : ", ") + name + ": " + std::to_string(n) + " runs";
             return s.empty() ? std::string("none") : s;
         };
-        preamble += "\nCollected (--collect) from runs made one by one (--run) on " + list(hosts) +
-                    ", by " + list(builds) +
-                    ": the times (ms per frame, wall) depend on those machines and on what ran "
+        preamble += "\nCollected (--collect) from runs made one by one (--run); hosts " + list(hosts) +
+                    "; builds " + list(builds) +
+                    ". Their times (ms per frame, wall) depend on those machines and on what ran "
                     "beside each run.\n";
     } else if (jobs_used_ > 1) {
         preamble += "\n" + std::to_string(jobs_used_) +
@@ -482,9 +482,8 @@ void BenchApp::checkPlanFile(const std::string& flag) const {
     const std::string path = (fs::path(out_dir) / "plan.json").string();
     const auto p = loadPlanFile(path);
     if (!p)
-        throw std::invalid_argument(flag + ": no plan in " + out_dir + " (no " + path +
-                                    "): make one first with superloc-bench SUITE.ini --out " +
-                                    out_dir + " --plan");
+        throw std::invalid_argument(flag + ": " + path + " does not exist: make the plan first "
+                                    "(superloc-bench SUITE.ini --out " + out_dir + " --plan)");
     std::vector<std::string> ids;
     for (const auto& r : plan_) ids.push_back(r.id);
     if (p->ids != ids)
