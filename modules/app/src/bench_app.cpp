@@ -96,7 +96,8 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.add_option("--jobs", f.jobs,
                    "children run at once (default: the number of cores): a sequence's preparation,\n"
                    "or one localize run and its evaluation; the results are those of --jobs 1, but\n"
-                   "the runs share the cores, so their times (ms per frame, wall) are higher")
+                   "the runs share the cores, so their times (ms per frame, wall) are higher; with\n"
+                   "--collect, runs evaluated at once")
         ->type_name("N");
     cli.add_flag("--plan", f.plan,
                  "do not run: write DIR/plan.json and print one shell command per run for another\n"
@@ -112,7 +113,7 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.footer(
         "Split over machines (doc/evaluation.md#runs-split-for-a-scheduler):\n"
         "  superloc-bench SUITE.ini --out DIR --plan | parallel -j 8   (or --sshloginfile ...)\n"
-        "  superloc-bench SUITE.ini --out DIR --collect");
+        "  superloc-bench SUITE.ini --out DIR --collect\n");
 }
 
 /// Sequence i's data run ID.
@@ -289,9 +290,9 @@ std::string BenchApp::runData(size_t i, std::ostream& log) const {
     return err;
 }
 
-std::string BenchApp::dataState(size_t i, bool& missing) const {
+std::string BenchApp::dataState(size_t i, bool gt_only, bool& missing) const {
     const SequenceFiles f = sequenceFiles(suite.sequences[i], out_dir);
-    const std::string why = dataIncomplete(f);
+    const std::string why = dataIncomplete(f, gt_only);
     missing = false;
     if (why.empty()) return "";
     const auto st = loadRunStatus(f.dir);
@@ -536,10 +537,8 @@ int BenchApp::runPlanned(std::ostream& log) const {
         return err.empty() ? 0 : 2;
     }
     const PlannedRun& d = plan_[r.sequence];
-    if (const std::string why = dataIncomplete(sequenceFiles(suite.sequences[r.sequence], out_dir));
-        !why.empty()) {
-        bool missing = false;
-        const std::string state = dataState(r.sequence, missing);
+    bool missing = false;
+    if (const std::string state = dataState(r.sequence, false, missing); !state.empty()) {
         throw std::runtime_error("--run " + r.id + ": its data is not ready (" + state + "): run " + d.id +
                                  " (" + std::to_string(d.index) + ") first");
     }
@@ -634,7 +633,7 @@ int BenchApp::execute(std::ostream& log, bool collect_only) {
             if (!collect_only) say(log, "[" + seq.name + "] preparing data");
             bool missing = false;
             try {
-                q.err = collect_only ? dataState(i, missing) : runData(i, log);
+                q.err = collect_only ? dataState(i, true, missing) : runData(i, log);
                 if (q.err.empty())
                     q.gt = io::loadTum(q.files.gt_tum), q.gt_map = io::loadPointCloud(q.files.gt_map);
             } catch (const std::exception& e) {

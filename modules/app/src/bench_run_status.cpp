@@ -75,7 +75,7 @@ void markDataComplete(const SequenceFiles& f) {
     fs::rename(tmp, fs::path(f.dir) / kComplete);
 }
 
-std::string dataIncomplete(const SequenceFiles& f) {
+std::string dataIncomplete(const SequenceFiles& f, bool gt_only) {
     const fs::path marker = fs::path(f.dir) / kComplete;
     std::ifstream in(marker);
     if (!in) return "no " + marker.string();
@@ -86,6 +86,7 @@ std::string dataIncomplete(const SequenceFiles& f) {
         std::istringstream ss(line);
         if (!(ss >> size) || !std::getline(ss >> std::ws, name) || name != fs::path(p).filename())
             return marker.string() + " does not list " + fs::path(p).filename().string();
+        if (gt_only && p != f.gt_tum && p != f.gt_map) continue;
         std::error_code ec;
         const auto actual = fs::file_size(p, ec);
         if (ec) return p + " is missing";

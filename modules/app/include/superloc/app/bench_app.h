@@ -70,9 +70,10 @@ class BenchApp {
     std::string runData(size_t i, std::ostream& log) const;
     std::string prepare(const SequenceSpec& seq, const SequenceFiles& f, std::ostream& log,
                         int& exit_code) const;
-    /// --collect's view of sequence i's data: "" when complete, else why not: its data run's
-    /// failure, or (`missing`) that it has not finished or its files changed since.
-    std::string dataState(size_t i, bool& missing) const;
+    /// Sequence i's data: "" when complete (with `gt_only`, its ground truth: what --collect
+    /// reads), else why not: its data run's failure, or (`missing`) that it has not finished or
+    /// its files changed since.
+    std::string dataState(size_t i, bool gt_only, bool& missing) const;
     /// SEQ/METHOD: the localize child of sequence i and method k; writes its status.json.
     RunStatus runLocalize(size_t i, size_t k, std::ostream& log) const;
     /// A localization run's record from its folder: its status file, evaluated against the GT;

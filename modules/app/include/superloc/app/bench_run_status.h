@@ -30,8 +30,9 @@ std::optional<RunStatus> loadRunStatus(const std::string& dir);
 /// Marks a sequence's data complete: f.dir/complete lists each file of `f` with its size.
 /// Written last, once every file is in place.
 void markDataComplete(const SequenceFiles& f);
-/// f.dir/complete exists and every file it lists is there with its size; otherwise why not ("").
-std::string dataIncomplete(const SequenceFiles& f);
+/// "" when f.dir/complete exists and every file it lists is there with its size (with
+/// `gt_only`, the ground truth's files: what --collect reads); otherwise why not.
+std::string dataIncomplete(const SequenceFiles& f, bool gt_only = false);
 /// Removes f.dir/complete (the data is about to be rewritten or deleted).
 void unmarkDataComplete(const SequenceFiles& f);
 
