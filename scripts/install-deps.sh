@@ -11,7 +11,10 @@ PKGS=(cmake ninja-build g++ pkg-config
       # ROS 2 bags (.db3: SQLite; .mcap: zstd / lz4 chunks, CRC-32 from zlib)
       libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
       # the browser test of report.html (tests/e2e/test_report_browser.cpp: headless Chromium)
-      chromium)
+      chromium
+      # superloc-bench --plan run by GNU parallel (tests BenchPlan.*, BenchQuick.PlanThrough*;
+      # doc/evaluation.md#runs-split-for-a-scheduler)
+      parallel)
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 missing=()

@@ -27,6 +27,8 @@ cmake --build $B -j "$(nproc)"
 # Left out: the longest runs under the sanitizers (seconds measured sanitized, -j2 on a loaded
 # 2-core machine), whose code paths the tests that stay cover in shorter form:
 #   BenchQuick.Smoke (Release 337), Install.ConsumerProject (a CMake install + consumer build, 73)
+#   BenchQuick.PlanThrough* (the quick suite twice: --jobs 1, then --plan | parallel; the split
+#                                           steps' code stays in BenchPlan.*, on stand-in apps)
 #   LocalizeSim.FeaturelessCorridor* 175    the 3 s office and the simulated fault suite stay
 #   RealSplitRuns.* 330, Basin.* 86         real splits: FaultsReal.Kitti* stay
 #   FaultsReal.Campus* 410                  campus import + map under ASan (green when run by hand)
@@ -38,5 +40,5 @@ cmake --build $B -j "$(nproc)"
 #                                           synthetic GlobalSearch.* and Health.* tests stay
 #   Docs.*CommandsRun (README's and doc/your-data.md's commands, ~1 min in Release: the apps'
 #                                           paths the e2e tests cover); the other Docs.* tests stay
-EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*|Docs\..*CommandsRun)$'
+EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|BenchQuick\.PlanThrough.*|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*|Docs\..*CommandsRun)$'
 cd $B && ctest --output-on-failure -j "$(nproc)" --timeout 900 -E "$EXCLUDE" "$@"

@@ -3,6 +3,7 @@
 #include <superloc/app/bench_app.h>
 #include <superloc/app/eval_app.h>
 #include <superloc/app/process.h>
+#include <superloc_build_version.h>
 
 #include <iostream>
 
@@ -11,8 +12,9 @@ int main(int argc, char** argv) {
         superloc::app::killChildOnTermination();
         superloc::app::BenchApp app;
         app.data_dir = SUPERLOC_DEFAULT_DATA;
+        app.version = SUPERLOC_BUILD_VERSION;
         app.initialize(std::vector<std::string>(argv + 1, argv + argc));
-        return app.run(std::cout);
+        return app.run(std::cout, std::cerr);
     } catch (const std::exception& e) {
         std::cerr << "superloc-bench: " << superloc::oneLineError(e) << "\n";
         return 1;

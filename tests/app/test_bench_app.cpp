@@ -6,8 +6,11 @@
 #include <superloc/core/config.h>
 #include <superloc/app/process.h>
 #include <superloc/app/task_queue.h>
+#include <superloc_testing/bench_results.h>
 #include <superloc_testing/testing.h>
 #include <sys/stat.h>
+
+#include "bench_stand_ins.h"
 
 #include <filesystem>
 #include <fstream>
@@ -18,110 +21,10 @@ using namespace superloc::eval;
 using namespace superloc::app;
 namespace fs = std::filesystem;
 
-namespace {
-void writeScript(const std::string& path, const std::string& body) {
-    std::ofstream(path) << "#!/bin/sh\n" << body;
-    ::chmod(path.c_str(), 0755);
-}
-std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// Argument parsing shared by the stand-ins: sets OUT, METHOD, GT from the flags; --dump-config
-// (superloc-bench's check of each method before the runs) succeeds at once.
-const char* kParse =
-    "while [ $# -gt 0 ]; do case \"$1\" in --out) OUT=$2; shift;; --method) METHOD=$2; shift;;"
-    " --initial-pose-tum) GT=$2; shift;; --dump-config) exit 0;; esac; shift; done\n";
-
-// superloc-sim: 11 GT poses 1 m apart along x; GT map = 21 x 3 points on the plane z = 0.
-const char* kSim =
-    "mkdir -p \"$OUT\"; echo raw > \"$OUT/sequence.rawlog\"; echo map > \"$OUT/prior_map.pcd\"\n"
-    "i=0; : > \"$OUT/gt_tum.txt\"; while [ $i -le 10 ]; do echo \"$i.0 $i 0 0 0 0 0 1\" >> "
-    "\"$OUT/gt_tum.txt\"; i=$((i+1)); done\n"
-    "{ printf 'ply\\nformat ascii 1.0\\nelement vertex 63\\nproperty float x\\nproperty float "
-    "y\\nproperty float z\\nend_header\\n';\n"
-    "  for x in 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do for y in 0 1 2; do echo "
-    "\"$x $y 0\"; done; done; } > \"$OUT/gt_map.ply\"\n";
-
-// superloc-localize: `good` reproduces GT with its map on the plane; `lift` is 0.2 m too high;
-// `stop` writes the first 6 poses and fails (exit 3).
-const char* kLocalize =
-    "mkdir -p \"$OUT\"; Z=0; N=11; RC=0\n"
-    "[ \"$METHOD\" = lift ] && Z=0.2\n"
-    "[ \"$METHOD\" = stop ] && N=6 && RC=3\n"
-    "head -n $N \"$GT\" | awk -v z=$Z '{ $4 = $4 + z; print }' > \"$OUT/trajectory.tum\"\n"
-    "echo 't,gamma_x,gamma_y,gamma_z,gamma_roll,gamma_pitch,gamma_yaw,degenerate,ms_total' > "
-    "\"$OUT/frames.csv\"\n"
-    "i=0; while [ $i -lt $N ]; do echo \"$i.0,0.1,1,1,1,1,1,x,$((10+i))\" >> \"$OUT/frames.csv\"; "
-    "i=$((i+1)); done\n"
-    "{ printf '# .PCD v0.7\\nVERSION 0.7\\nFIELDS x y z\\nSIZE 4 4 4\\nTYPE F F F\\nCOUNT 1 1 "
-    "1\\nWIDTH 3\\nHEIGHT 1\\n"
-    "VIEWPOINT 0 0 0 1 0 0 0\\nPOINTS 3\\nDATA ascii\\n'; echo \"1 1 $Z\"; echo \"5 1 $Z\"; echo "
-    "\"9 2 $Z\"; } > \"$OUT/localized_map.pcd\"\n"
-    "exit $RC\n";
-
-// For the --jobs test, before kLocalize: every run marks its start in its sequence's folder;
-// when TOOLS/rendezvous exists, `good` waits (up to 20 s) for another run to be going at the
-// same time — `lift` of its sequence, or the other sequence's `good` (which is itself waiting)
-// — and writes whether it met one (`met`) into good.rendezvous. Waiting for `lift` alone could
-// deadlock when both sequences' data are ready together and the two `good` runs take both
-// jobs (seen under the sanitizers, where the simulations are slower).
-// `hang` never finishes (the suite's timeout kills it).
-const char* kRendezvous =
-    "[ \"$METHOD\" = hang ] && exec sleep 60\n"
-    "mkdir -p \"$OUT\"; touch \"$OUT/../$METHOD.started\"\n"
-    "if [ \"$METHOD\" = good ] && [ -e \"$(dirname \"$0\")/rendezvous\" ]; then\n"
-    "  met() { [ -e \"$OUT/../lift.started\" ] && return 0; set -- \"$OUT\"/../../*/good.started; [ $# -ge 2 ]; }\n"
-    "  n=0; while ! met && [ $n -lt 200 ]; do sleep 0.1; n=$((n+1)); done\n"
-    "  if met; then echo met; else echo alone; fi > \"$OUT/../good.rendezvous\"\n"
-    "fi\n";
-
-/// results.md without what may differ between --jobs 1 and --jobs N: the first line (command,
-/// date), the note on shared cores, and the Runs table's wall time and peak memory (and without
-/// blank lines).
-std::string withoutTimes(const std::string& md) {
-    std::istringstream in(md);
-    std::string out;
-    bool in_runs = false;
-    for (std::string line; std::getline(in, line);) {
-        if (line.empty() || line.rfind("Produced by", 0) == 0 || line.find("(--jobs)") != std::string::npos)
-            continue;
-        if (line.rfind("## ", 0) == 0) in_runs = line == "## Runs";
-        if (in_runs && (line.rfind("| ", 0) == 0 || line.rfind("|---", 0) == 0)) {
-            for (int cut = 0; cut < 2; ++cut) line.erase(line.rfind('|', line.size() - 2) + 1);
-        }
-        out += line + "\n";
-    }
-    return out;
-}
-
-/// results.json without its timing figures (the number of jobs, wall time and peak memory).
-nlohmann::json jsonWithoutTimes(const std::string& text) {
-    auto j = nlohmann::json::parse(text);
-    j.erase("jobs");
-    for (auto& r : j["runs"]) r.erase("wall_s"), r.erase("peak_rss_mb");
-    return j;
-}
-
-/// A suite of two stand-in sequences in `d`, with these methods.
-std::string writeTwoSequenceSuite(const std::string& d, const std::string& methods, int timeout) {
-    const std::string tools = d + "/tools";
-    fs::create_directories(tools);
-    writeScript(tools + "/superloc-sim", std::string(kParse) + kSim);
-    writeScript(tools + "/superloc-localize", std::string(kParse) + kRendezvous + kLocalize);
-    std::ofstream(d + "/localize.ini") << "[localization]\n";
-    std::ofstream(d + "/world.ini") << "[sim]\n";
-    std::ofstream(d + "/suite.ini") << "[suite]\nmethods = " << methods
-                                    << "\nsequences = plane hall\nlocalize_config = localize.ini\n"
-                                    << "timeout = " << timeout << "\n[seq.plane]\ntype = sim\n"
-                                    << "config = world.ini\nseed = 3\n[seq.hall]\ntype = sim\n"
-                                    << "config = world.ini\nseed = 4\n";
-    return tools;
-}
-}  // namespace
+using namespace superloc::testing::bench;
+using superloc::testing::resultsJsonWithoutTimes;
+using superloc::testing::resultsMarkdownWithoutTimes;
+using superloc::testing::slurp;
 
 TEST(BenchApp, RunsASuiteWithStandInTools) {
     const std::string d = superloc::testing::freshDir("bench_app");
@@ -241,15 +144,15 @@ TEST(BenchApp, JobsGiveTheResultsOfOneJob) {
     EXPECT_EQ(one.runs[2].status, "exit 3");  // a failed child is reported the same way
     EXPECT_EQ(two.plots, one.plots);
     const std::string md1 = slurp(d + "/one/results.md"), md2 = slurp(d + "/two/results.md");
-    EXPECT_EQ(withoutTimes(md2), withoutTimes(md1));
-    EXPECT_NE(withoutTimes(md1).find("| good | **0.00** | **0.00** |"), std::string::npos) << md1;
-    EXPECT_NE(withoutTimes(md1).find("| hall | stop | exit 3 | 6/11 |"), std::string::npos)
-        << withoutTimes(md1);
+    EXPECT_EQ(resultsMarkdownWithoutTimes(md2), resultsMarkdownWithoutTimes(md1));
+    EXPECT_NE(resultsMarkdownWithoutTimes(md1).find("| good | **0.00** | **0.00** |"), std::string::npos) << md1;
+    EXPECT_NE(resultsMarkdownWithoutTimes(md1).find("| hall | stop | exit 3 | 6/11 |"), std::string::npos)
+        << resultsMarkdownWithoutTimes(md1);
     // Only the parallel run says its times were measured on shared cores.
     EXPECT_EQ(md1.find("(--jobs)"), std::string::npos);
     EXPECT_NE(md2.find("2 runs at a time (--jobs) shared the machine's cores"), std::string::npos);
     const std::string js1 = slurp(d + "/one/results.json"), js2 = slurp(d + "/two/results.json");
-    EXPECT_EQ(jsonWithoutTimes(js2), jsonWithoutTimes(js1));
+    EXPECT_EQ(resultsJsonWithoutTimes(js2), resultsJsonWithoutTimes(js1));
     EXPECT_EQ(nlohmann::json::parse(js1)["jobs"], 1);
     EXPECT_EQ(nlohmann::json::parse(js2)["jobs"], 2);
     for (const char* f : {"plane_good_top.svg", "hall_lift_gamma.svg", "hall_f1_rot.svg"})

@@ -500,6 +500,48 @@ std::vector<BadInput> cases() {
                                                      d + "/b"};
                  },
                  1, {"method 'icp'", "unknown key 'metod'"}});
+    // ---- superloc-bench --plan / --run / --collect (doc/evaluation.md#runs-split-for-a-scheduler) ----
+    // The suite's plan: data:office (0), office/icp (1), made in d/b by --plan first.
+    const auto planned = [suite, B](const std::vector<std::string>& extra) {
+        return [suite, B, extra](const std::string& d) {
+            const std::string s = suite(d, "");
+            const auto p = superloc::app::runProcess({appPath(B), s, "--out", d + "/b", "--plan"}, d + "/plan.log", 120);
+            EXPECT_EQ(p.exit_code, 0) << slurp(d + "/plan.log");
+            std::vector<std::string> a = {s, "--out", d + "/b"};
+            a.insert(a.end(), extra.begin(), extra.end());
+            return a;
+        };
+    };
+    const auto unplanned = [suite](const std::vector<std::string>& extra) {
+        return [suite, extra](const std::string& d) {
+            std::vector<std::string> a = {suite(d, ""), "--out", d + "/b"};
+            a.insert(a.end(), extra.begin(), extra.end());
+            return a;
+        };
+    };
+    c.push_back({"BenchRunUnknownId", B, planned({"--run", "office/icpp"}), 1,
+                 {"--run: 'office/icpp' is not a run of this plan", "index 0-1", "--plan lists them"}});
+    c.push_back({"BenchRunIndexOutOfRange", B, planned({"--run", "2"}), 1,
+                 {"--run: '2' is not a run of this plan", "index 0-1"}});
+    c.push_back({"BenchRunWithoutId", B, planned({"--run"}), 1, {"--run"}});
+    c.push_back({"BenchRunWithoutPlan", B, unplanned({"--run", "0"}), 1,
+                 {"--run:", "/b/plan.json does not exist: make the plan first", "--plan)"}});
+    c.push_back({"BenchRunBeforeItsData", B, planned({"--run", "office/icp"}), 1,
+                 {"--run office/icp: its data is not ready", "data:office has not finished",
+                  "run data:office (0) first"}});
+    c.push_back({"BenchRunOtherMethodsThanPlanned", B, planned({"--run", "0", "--methods", "icp superloc"}), 1,
+                 {"--run:", "plan.json plans other runs (2) than this command line (3)", "--methods"}});
+    c.push_back({"BenchCollectWithoutPlan", B, unplanned({"--collect"}), 1,
+                 {"--collect:", "/b/plan.json does not exist", "--plan)"}});
+    c.push_back({"BenchPlanWithJobs", B, unplanned({"--plan", "--jobs", "2"}), 1,
+                 {"--jobs: not with --plan", "parallel -j N"}});
+    c.push_back({"BenchRunWithJobs", B, unplanned({"--run", "0", "--jobs", "2"}), 1, {"--jobs: not with --run"}});
+    c.push_back({"BenchPlanAndCollect", B, unplanned({"--plan", "--collect"}), 1,
+                 {"--plan and --collect: give one step at a time"}});
+    c.push_back({"BenchRunWithFresh", B, unplanned({"--run", "0", "--fresh"}), 1,
+                 {"--fresh: not with --run", "delete DIR/data/SEQ"}});
+    c.push_back({"BenchRunWithDropData", B, unplanned({"--run", "1", "--drop-data"}), 1,
+                 {"--drop-data: not with --run", "--collect"}});
     return c;
 }
 

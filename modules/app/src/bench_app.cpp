@@ -1,6 +1,8 @@
 #include <CLI/CLI.hpp>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/app/bench_app.h>
+#include <superloc/app/bench_plan.h>
+#include <superloc/app/bench_run_status.h>
 #include <superloc/app/command_line.h>
 #include <superloc/app/ini_sections.h>
 #include <superloc/app/process.h>
@@ -11,12 +13,15 @@
 #include <superloc/io/tum.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -29,12 +34,6 @@ std::string status(const ProcessResult& p, double timeout_s) {
     if (p.timed_out) return "timeout after " + std::to_string(static_cast<int>(timeout_s)) + " s";
     if (p.exit_code != 0) return "exit " + std::to_string(p.exit_code);
     return "ok";
-}
-
-bool allExist(const std::vector<std::string>& paths) {
-    for (const auto& p : paths)
-        if (!fs::exists(p)) return false;
-    return true;
 }
 
 /// --jobs: a whole number from 1 to kMaxChildren ("0", "-1", "2.5", "two" are not).
@@ -67,6 +66,7 @@ std::string outcome(const RunRecord& r) {
 struct BenchFlags {
     std::string suite_path, only_seq, only_meth, jobs;
     std::vector<std::string> localize_sets;
+    bool plan = false, collect = false;
 };
 
 void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
@@ -96,8 +96,34 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
     cli.add_option("--jobs", f.jobs,
                    "children run at once (default: the number of cores): a sequence's preparation,\n"
                    "or one localize run and its evaluation; the results are those of --jobs 1, but\n"
-                   "the runs share the cores, so their times (ms per frame, wall) are higher")
+                   "the runs share the cores, so their times (ms per frame, wall) are higher; with\n"
+                   "--collect, runs evaluated at once")
         ->type_name("N");
+    cli.add_flag("--plan", f.plan,
+                 "do not run: write DIR/plan.json and print one shell command per run for another\n"
+                 "scheduler (GNU parallel, a Slurm array): the data runs first, then each localize\n"
+                 "run after its data run; the summary (index ranges) goes to stderr");
+    cli.add_option("--run", app.run_key,
+                   "execute one run of DIR/plan.json into DIR: data:SEQ, SEQ/METHOD or its index\n"
+                   "(--plan lists them); exit 0 when its child succeeded, 2 when it failed")
+        ->type_name("ID");
+    cli.add_flag("--collect", f.collect,
+                 "do not run: write the results from the runs' folders (any machine may have run\n"
+                 "them), naming each missing or failed run; exit 2 when a run is missing");
+    cli.footer(
+        "Split over machines (doc/evaluation.md#runs-split-for-a-scheduler):\n"
+        "  superloc-bench SUITE.ini --out DIR --plan | parallel -j 8   (or --sshloginfile ...)\n"
+        "  superloc-bench SUITE.ini --out DIR --collect\n");
+}
+
+/// Sequence i's data run ID.
+std::string dataId(const SuiteSpec& suite, size_t i) { return "data:" + suite.sequences[i].name; }
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
 }
 
 }  // namespace
@@ -121,7 +147,30 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
     const std::string& suite_path = f.suite_path;
     const bool seq_given = cli.count("--sequences") > 0, meth_given = cli.count("--methods") > 0;
     const std::string &only_seq = f.only_seq, &only_meth = f.only_meth;
+    // The steps of a split run exclude each other and the flags that only make sense in one
+    // process: checked before the suite is read, so the error names the flags.
+    std::vector<std::string> steps;
+    for (const char* flag : {"--plan", "--run", "--collect"})
+        if (cli.count(flag) > 0) steps.push_back(flag);
+    if (steps.size() > 1)
+        throw std::invalid_argument(steps[0] + " and " + steps[1] +
+                                    ": give one step at a time (--plan, then --run ID for each of "
+                                    "its runs, then --collect)");
+    mode = f.plan ? Mode::Plan : cli.count("--run") > 0 ? Mode::Run : f.collect ? Mode::Collect : Mode::All;
+    const std::string step = steps.empty() ? "" : steps[0];
+    if (cli.count("--jobs") > 0 && (mode == Mode::Plan || mode == Mode::Run))
+        throw std::invalid_argument("--jobs: not with " + step +
+                                    " (the scheduler that runs the plan's commands decides how many "
+                                    "run at once, e.g. parallel -j N)");
+    if (fresh && mode != Mode::All)
+        throw std::invalid_argument("--fresh: not with " + step + " (to prepare a sequence again, "
+                                    "delete DIR/data/SEQ before --run data:SEQ)");
+    if (drop_data && (mode == Mode::Plan || mode == Mode::Run))
+        throw std::invalid_argument("--drop-data: not with " + step +
+                                    " (a run cannot know when its sequence's last run ends); give "
+                                    "it to --collect");
     if (tools_dir.empty()) tools_dir = selfDir();
+    if (bench_path.empty()) bench_path = selfExe();
     suite = loadSuite(suite_path, data_dir);
     if (seq_given) {
         std::vector<SequenceSpec> keep;
@@ -152,6 +201,16 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         }
         suite.localize_sets.push_back(kv);
     }
+    // The plan, and the flags its commands repeat so that each run sees the same suite.
+    plan_ = planRuns(suite);
+    stamp_ = configStamp(readText(suite_path), readText(suite.localize_config), suite.localize_sets);
+    plan_args_.clear();
+    const auto absolute = [](const std::string& p) { return fs::absolute(p).lexically_normal().string(); };
+    if (cli.count("--data") > 0) plan_args_.insert(plan_args_.end(), {"--data", absolute(data_dir)});
+    if (cli.count("--tools") > 0) plan_args_.insert(plan_args_.end(), {"--tools", absolute(tools_dir)});
+    if (seq_given) plan_args_.insert(plan_args_.end(), {"--sequences", only_seq});
+    if (meth_given) plan_args_.insert(plan_args_.end(), {"--methods", only_meth});
+    for (const auto& kv : f.localize_sets) plan_args_.insert(plan_args_.end(), {"--localize-set", kv});
     command_line_ = "superloc-bench";
     for (const auto& a : args) command_line_ += " " + a;
 }
@@ -164,61 +223,137 @@ std::string BenchApp::tool(const std::string& name) const {
     return t;
 }
 
-std::string BenchApp::prepare(const SequenceSpec& seq, const SequenceFiles& f, std::ostream& log) {
+std::string BenchApp::prepare(const SequenceSpec& seq, const SequenceFiles& f, std::ostream& log,
+                              int& exit_code) const {
     const std::string logs = (fs::path(out_dir) / "logs").string();
     const auto step = [&](const std::vector<std::string>& argv, const std::string& what) {
         say(log, "  " + seq.name + ": " + what + ": " + joinCommand(argv));
         const ProcessResult p =
             runProcess(argv, logs + "/" + seq.name + "-" + what + ".log", suite.timeout_s);
+        exit_code = p.exit_code;
         const std::string st = status(p, suite.timeout_s);
         return st == "ok" ? std::string()
                           : what + " " + st + " (see logs/" + seq.name + "-" + what + ".log)";
     };
+    // Every step again: a step that was stopped part way may have left a truncated file.
     if (seq.kind == SequenceSpec::Kind::Sim) {
-        if (!fresh && allExist({f.rawlog, f.gt_tum, f.gt_map, f.prior_map})) return "";
         if (auto e = step(simCommand(tool("superloc-sim"), seq, f.dir), "sim"); !e.empty())
             return e;
     } else {
-        if (fresh || !fs::exists(f.rawlog))
-            if (auto e = step(importCommand(tool("superloc-import"), seq, f.rawlog), "import");
-                !e.empty())
-                return e;
-        if (fresh || !fs::exists(f.prior_map))
-            if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel,
-                                         f.prior_map, seq.map_scans),
-                              "prior-map");
-                !e.empty())
-                return e;
-        if (fresh || !fs::exists(f.gt_map))
-            if (auto e = step(
-                    mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.gt_map_voxel, f.gt_map),
-                    "gt-map");
-                !e.empty())
-                return e;
+        if (auto e = step(importCommand(tool("superloc-import"), seq, f.rawlog), "import"); !e.empty())
+            return e;
+        if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.prior_voxel,
+                                     f.prior_map, seq.map_scans),
+                          "prior-map");
+            !e.empty())
+            return e;
+        if (auto e = step(mapCommand(tool("superloc-map"), f.rawlog, seq.gt, seq.gt_map_voxel, f.gt_map),
+                          "gt-map");
+            !e.empty())
+            return e;
     }
     for (const auto& p : {f.rawlog, f.gt_tum, f.gt_map, f.prior_map})
         if (!fs::exists(p)) return "missing " + p + " after preparing";
     return "";
 }
 
-RunRecord BenchApp::runOne(const SequenceSpec& seq, const SequenceFiles& f,
-                           const std::string& method, const Trajectory& gt,
-                           const PointCloud& gt_map, std::ostream& log,
-                           std::vector<std::string>& plots_written) const {
+std::string BenchApp::runData(size_t i, std::ostream& log) const {
+    const SequenceSpec& seq = suite.sequences[i];
+    const SequenceFiles f = sequenceFiles(seq, out_dir);
+    fs::create_directories(f.dir);
+    fs::create_directories(fs::path(out_dir) / "logs");
+    // One preparation of a sequence at a time (a plan's command of each localize run prepares
+    // its data first); whoever comes second finds the data complete.
+    const DataLock lock(f.dir);
+    if (lock.waited()) say(log, "  " + seq.name + ": waited for another run preparing its data");
+    if (!fresh && dataIncomplete(f).empty()) {
+        say(log, "  " + seq.name + ": data complete, reused (" + f.dir + "/complete)");
+        return "";
+    }
+    unmarkDataComplete(f);
+    RunStatus st;
+    st.id = dataId(suite, i);
+    st.config = stamp_;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::string err;
+    try {
+        err = prepare(seq, f, log, st.exit_code);
+    } catch (const std::exception& e) {
+        err = std::string(e.what()).substr(0, 200);
+        st.exit_code = -1;
+    }
+    st.status = err.empty() ? "ok" : err;
+    st.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    st.version = version, st.host = hostName(), st.finished = utcNow();
+    saveRunStatus(f.dir, st);
+    if (err.empty()) markDataComplete(f);  // last: the data counts from here on
+    return err;
+}
+
+std::string BenchApp::dataState(size_t i, bool gt_only, bool& missing) const {
+    const SequenceFiles f = sequenceFiles(suite.sequences[i], out_dir);
+    const std::string why = dataIncomplete(f, gt_only);
+    missing = false;
+    if (why.empty()) return "";
+    const auto st = loadRunStatus(f.dir);
+    if (st && st->status != "ok") return st->status;  // it failed: the same reason as in one process
+    missing = true;
+    return dataId(suite, i) + (st ? " is not complete any more (" : " has not finished (") + why + ")";
+}
+
+std::string BenchApp::runDir(size_t i, size_t k) const {
+    return (fs::path(out_dir) / "runs" / suite.sequences[i].name / suite.methods[k]).string();
+}
+
+RunStatus BenchApp::runLocalize(size_t i, size_t k, std::ostream& log) const {
+    const SequenceSpec& seq = suite.sequences[i];
+    const std::string& method = suite.methods[k];
+    const fs::path dir = runDir(i, k);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto argv = localizeCommand(tool("superloc-localize"), suite, seq, method,
+                                      sequenceFiles(seq, out_dir), dir.string());
+    say(log, "  " + seq.name + " / " + method + ": " + joinCommand(argv));
+    const ProcessResult p = runProcess(argv, (dir / "localize.log").string(), suite.timeout_s);
+    RunStatus st;
+    st.id = seq.name + "/" + method;
+    st.config = stamp_;
+    st.status = status(p, suite.timeout_s);
+    st.exit_code = p.exit_code;
+    st.wall_s = p.wall_s;
+    st.peak_rss_mb = p.peak_rss_mb;
+    st.version = version, st.host = hostName(), st.finished = utcNow();
+    saveRunStatus(dir.string(), st);
+    return st;
+}
+
+RunRecord BenchApp::collectRun(size_t i, size_t k, const Trajectory& gt, const PointCloud& gt_map,
+                               std::vector<std::string>& plots_written) const {
+    const SequenceSpec& seq = suite.sequences[i];
+    const std::string& method = suite.methods[k];
     RunRecord r;
     r.sequence = seq.name;
     r.method = method;
     r.gt_length_m = pathLength(gt);
-    const fs::path dir = fs::path(out_dir) / "runs" / seq.name / method;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    const auto argv =
-        localizeCommand(tool("superloc-localize"), suite, seq, method, f, dir.string());
-    say(log, "  " + seq.name + " / " + method + ": " + joinCommand(argv));
-    const ProcessResult p = runProcess(argv, (dir / "localize.log").string(), suite.timeout_s);
-    r.status = status(p, suite.timeout_s);
-    r.wall_s = p.wall_s;
-    r.peak_rss_mb = p.peak_rss_mb;
+    const fs::path dir = runDir(i, k);
+    const std::string rel = "runs/" + seq.name + "/" + method;
+    try {
+        const auto st = loadRunStatus(dir.string());
+        r.missing = !st || st->config != stamp_;
+        if (!st) {
+            r.status = "missing: no " + rel + "/status.json (not run, still running, or killed)";
+            return r;
+        }
+        if (st->config != stamp_) {
+            r.status = "stale: " + rel + " ran with another suite, localize INI or --localize-set";
+            return r;
+        }
+        r.status = st->status, r.wall_s = st->wall_s, r.peak_rss_mb = st->peak_rss_mb;
+        r.host = st->host, r.version = st->version;
+    } catch (const std::exception& e) {
+        r.status = std::string("unreadable status: ") + e.what();
+        return r;
+    }
     try {
         const fs::path traj = dir / "trajectory.tum";
         if (!fs::exists(traj)) {
@@ -258,7 +393,7 @@ void BenchApp::checkLocalizeConfig() const {
     // suite before its first run, with the localizer's own one-line reason, rather than failing
     // every run of that method late with the reason in a per-run log.
     const std::string localize = findTool("superloc-localize", tools_dir);
-    if (localize.empty()) return;  // every run says so (runOne)
+    if (localize.empty()) return;  // every run says so (runLocalize)
     for (const auto& method : suite.methods) {
         std::vector<std::string> argv = {localize, suite.localize_config, "--method", method};
         for (const auto& s : suite.localize_sets) argv.insert(argv.end(), {"--set", s});
@@ -293,10 +428,29 @@ void BenchApp::writeResults() const {
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
     std::string preamble = "Produced by `" + command_line_ + "` on " + date + ".\n";
-    if (jobs_used_ > 1)
+    if (collected_) {
+        // Where and by which builds the runs ran: their times depend on those machines and on
+        // what else ran there, which the scheduler decided.
+        std::map<std::string, size_t> hosts, builds;
+        for (const auto& r : runs) {
+            if (!r.host.empty()) ++hosts[r.host];
+            if (!r.version.empty()) ++builds[r.version];
+        }
+        const auto list = [](const std::map<std::string, size_t>& m) {
+            std::string s;
+            for (const auto& [name, n] : m)
+                s += (s.empty() ? "" : ", ") + name + ": " + std::to_string(n) + " runs";
+            return s.empty() ? std::string("none") : s;
+        };
+        preamble += "\nCollected (--collect) from runs made one by one (--run); hosts " + list(hosts) +
+                    "; builds " + list(builds) +
+                    ". Their times (ms per frame, wall) depend on those machines and on what ran "
+                    "beside each run.\n";
+    } else if (jobs_used_ > 1) {
         preamble += "\n" + std::to_string(jobs_used_) +
                     " runs at a time (--jobs) shared the machine's cores: the times (ms per frame, "
                     "wall) are higher than those of a run alone (--jobs 1).\n";
+    }
     std::vector<SeedGroup> groups;
     for (const auto& s : suite.sequences) {
         if (groups.empty() || groups.back().name != s.group) groups.push_back({s.group, {}});
@@ -305,35 +459,124 @@ void BenchApp::writeResults() const {
     writeTextFile((fs::path(out_dir) / "results.md").string(),
                   resultsMarkdown(runs, seqs, meths, preamble, plots) + seedMeansMarkdown(runs, groups, meths));
     writeTextFile((fs::path(out_dir) / "results.json").string(),
-                  resultsJson(runs, suite.path, jobs_used_));
+                  resultsJson(runs, suite.path,
+                              collected_ ? std::nullopt : std::optional<unsigned>(jobs_used_)));
 }
 
-int BenchApp::run(std::ostream& log) {
-    if (help) {
-        log << usage();
-        return 0;
-    }
+std::string BenchApp::runCommand(const std::string& id) const {
+    std::vector<std::string> argv = {bench_path, fs::absolute(suite.path).lexically_normal().string(),
+                                     "--out", fs::absolute(out_dir).lexically_normal().string()};
+    argv.insert(argv.end(), plan_args_.begin(), plan_args_.end());
+    argv.insert(argv.end(), {"--run", id});
+    return joinCommand(argv);
+}
+
+void BenchApp::savePlan() const {
+    PlanFile p{stamp_, {}};
+    std::vector<std::string> commands;
+    for (const auto& r : plan_) p.ids.push_back(r.id), commands.push_back(runCommand(r.id));
+    fs::create_directories(out_dir);
+    savePlanFile((fs::path(out_dir) / "plan.json").string(), p, suite.path, version, commands);
+}
+
+void BenchApp::checkPlanFile(const std::string& flag) const {
+    const std::string path = (fs::path(out_dir) / "plan.json").string();
+    const auto p = loadPlanFile(path);
+    if (!p)
+        throw std::invalid_argument(flag + ": " + path + " does not exist: make the plan first "
+                                    "(superloc-bench SUITE.ini --out " + out_dir + " --plan)");
+    std::vector<std::string> ids;
+    for (const auto& r : plan_) ids.push_back(r.id);
+    if (p->ids != ids)
+        throw std::invalid_argument(
+            flag + ": " + path + " plans other runs (" + std::to_string(p->ids.size()) +
+            ") than this command line (" + std::to_string(ids.size()) +
+            "): give the plan's --sequences / --methods, or --plan again");
+    if (p->config != stamp_)
+        throw std::invalid_argument(flag + ": " + path +
+                                    " was planned with another suite, localize INI or --localize-set "
+                                    "(--plan again)");
+}
+
+int BenchApp::printPlan(std::ostream& out, std::ostream& notes) const {
     fs::create_directories(fs::path(out_dir) / "logs");
     checkLocalizeConfig();
+    savePlan();
+    size_t n_data = 0;
+    for (const auto& r : plan_) {
+        std::string line = runCommand(r.id) + "  # " + std::to_string(r.index) + " " + r.id;
+        if (!r.isData()) {
+            // Its data run first: it returns at once when the data is complete, and waits for
+            // another process preparing it (GNU parallel starts lines in order, not after the
+            // ones before have finished).
+            const PlannedRun& d = plan_[r.sequence];
+            line = runCommand(d.id) + " && " + line + " (after " + d.id + " = " + std::to_string(d.index) + ")";
+        }
+        n_data += r.isData();
+        out << line << "\n";
+    }
+    out.flush();
+    const auto range = [](size_t a, size_t b) {
+        return a + 1 == b ? std::to_string(a) : std::to_string(a) + "-" + std::to_string(b - 1);
+    };
+    notes << "superloc-bench: " << plan_.size() << " runs in " << (fs::path(out_dir) / "plan.json").string()
+          << ": data runs " << range(0, n_data) << " (data:SEQ), localization runs "
+          << range(n_data, plan_.size()) << " (SEQ/METHOD, each after its data run; Slurm: --array="
+          << range(0, n_data) << " then --array=" << range(n_data, plan_.size())
+          << " --run $SLURM_ARRAY_TASK_ID); then --collect\n";
+    return 0;
+}
+
+int BenchApp::runPlanned(std::ostream& log) const {
+    checkPlanFile("--run");
+    const PlannedRun& r = findRun(plan_, run_key);
+    if (r.isData()) {
+        say(log, "[" + r.id + "] preparing data");
+        const std::string err = runData(r.sequence, log);
+        say(log, "  " + r.id + ": " + (err.empty() ? std::string("ok") : err));
+        return err.empty() ? 0 : 2;
+    }
+    const PlannedRun& d = plan_[r.sequence];
+    bool missing = false;
+    if (const std::string state = dataState(r.sequence, false, missing); !state.empty()) {
+        throw std::runtime_error("--run " + r.id + ": its data is not ready (" + state + "): run " + d.id +
+                                 " (" + std::to_string(d.index) + ") first");
+    }
+    fs::create_directories(fs::path(out_dir) / "logs");
+    const RunStatus st = runLocalize(r.sequence, *r.method, log);
+    char wall[32];
+    std::snprintf(wall, sizeof wall, "%.1f", st.wall_s);
+    say(log, "  " + r.id + ": " + st.status + " (" + wall + " s; --collect evaluates it)");
+    return st.status == "ok" ? 0 : 2;
+}
+
+// Each sequence's data and its runs' records and plots, filled in any order as the tasks
+// finish, reported in the suite's order (so the results are those of --jobs 1).
+struct BenchApp::Sequence {
+    SequenceFiles files;
+    std::string err;
+    Trajectory gt;
+    PointCloud gt_map;
+    std::vector<std::optional<RunRecord>> runs;
+    std::vector<std::vector<std::string>> plots;
+    std::vector<std::string> f1_plots;
+    size_t finished = 0;
+};
+
+int BenchApp::execute(std::ostream& log, bool collect_only) {
+    collected_ = collect_only;
+    fs::create_directories(fs::path(out_dir) / "logs");
+    if (!collect_only) {
+        checkLocalizeConfig();
+        savePlan();
+    }
     runs.clear();
     plots.clear();
     jobs_used_ = jobs > 0 ? jobs : availableCores();
-    if (jobs_used_ > 1)
+    if (jobs_used_ > 1 && !collect_only)
         say(log, "up to " + std::to_string(jobs_used_) + " runs at a time (--jobs; " +
                      std::to_string(availableCores()) +
                      " cores): they share the cores, so their times are higher than alone");
-    // Each sequence's data and its runs' records and plots, filled in any order as the tasks
-    // finish, reported in the suite's order (so the results are those of --jobs 1).
-    struct Sequence {
-        SequenceFiles files;
-        std::string err;
-        Trajectory gt;
-        PointCloud gt_map;
-        std::vector<std::optional<RunRecord>> runs;
-        std::vector<std::vector<std::string>> plots;
-        std::vector<std::string> f1_plots;
-        size_t finished = 0;
-    };
     const size_t n_meth = suite.methods.size();
     std::vector<Sequence> seqs(suite.sequences.size());
     for (auto& q : seqs) q.runs.resize(n_meth), q.plots.resize(n_meth);
@@ -364,6 +607,7 @@ int BenchApp::run(std::ostream& log) {
         const std::string& name = suite.sequences[i].name;
         if (drop_data) {
             std::error_code ec;
+            unmarkDataComplete(seqs[i].files);
             for (const auto* f : {&seqs[i].files.rawlog, &seqs[i].files.gt_map, &seqs[i].files.prior_map})
                 fs::remove(*f, ec);
             seqs[i].gt_map = PointCloud{};
@@ -375,9 +619,10 @@ int BenchApp::run(std::ostream& log) {
                       seqs[i].f1_plots);
         }
     };
-    // Keys: a sequence's preparation, then its runs in method order, then the next sequence:
-    // with one job this is the order of the suite; with more, a sequence's runs go before the
-    // preparation of later sequences as soon as its data is ready.
+    // Keys: a sequence's data, then its runs in method order, then the next sequence: with one
+    // job this is the order of the suite; with more, a sequence's runs go before the data of
+    // later sequences as soon as its data is ready. Collecting runs the same tasks without the
+    // children: the data's state, then each run's folder evaluated.
     TaskQueue queue(jobs_used_);
     for (size_t i = 0; i < seqs.size(); ++i) {
         const size_t key = i * (n_meth + 1);
@@ -385,10 +630,10 @@ int BenchApp::run(std::ostream& log) {
             Sequence& q = seqs[i];
             const SequenceSpec& seq = suite.sequences[i];
             q.files = sequenceFiles(seq, out_dir);
-            fs::create_directories(q.files.dir);
-            say(log, "[" + seq.name + "] preparing data");
+            if (!collect_only) say(log, "[" + seq.name + "] preparing data");
+            bool missing = false;
             try {
-                q.err = prepare(seq, q.files, log);
+                q.err = collect_only ? dataState(i, true, missing) : runData(i, log);
                 if (q.err.empty())
                     q.gt = io::loadTum(q.files.gt_tum), q.gt_map = io::loadPointCloud(q.files.gt_map);
             } catch (const std::exception& e) {
@@ -399,6 +644,8 @@ int BenchApp::run(std::ostream& log) {
                 for (size_t k = 0; k < n_meth; ++k) {
                     RunRecord r;
                     r.sequence = seq.name, r.method = suite.methods[k], r.status = "no data: " + q.err;
+                    r.missing = missing;
+                    if (collect_only) say(log, "  " + seq.name + " / " + r.method + ": " + r.status);
                     q.runs[k] = r;
                 }
                 publish();
@@ -409,8 +656,9 @@ int BenchApp::run(std::ostream& log) {
                 queue.add(key + 1 + k, [&, i, k] {
                     const Sequence& d = seqs[i];
                     const SequenceSpec& sq = suite.sequences[i];
+                    if (!collect_only) runLocalize(i, k, log);
                     std::vector<std::string> written;
-                    RunRecord r = runOne(sq, d.files, suite.methods[k], d.gt, d.gt_map, log, written);
+                    RunRecord r = collectRun(i, k, d.gt, d.gt_map, written);
                     say(log, "  " + sq.name + " / " + suite.methods[k] + ": " + outcome(r));
                     std::lock_guard<std::mutex> lock(results_mutex);
                     seqs[i].runs[k] = std::move(r);
@@ -422,9 +670,47 @@ int BenchApp::run(std::ostream& log) {
     }
     queue.run();
     publish();
-    for (const auto& r : runs)
-        if (!r.result) return 2;
-    return 0;
+    int code = 0;
+    std::vector<std::string> missing, failed;
+    for (const auto& r : runs) {
+        if (!r.result) code = 2;
+        if (r.missing)
+            missing.push_back(r.sequence + "/" + r.method);
+        else if (r.status != "ok")
+            failed.push_back(r.sequence + "/" + r.method);
+    }
+    if (collect_only) {
+        const auto names = [](const std::vector<std::string>& v) {
+            std::string s;
+            for (const auto& n : v) s += (s.empty() ? "" : " ") + n;
+            return s;
+        };
+        std::string line = "collected " + std::to_string(runs.size() - missing.size()) + " of " +
+                           std::to_string(runs.size()) + " runs into " + out_dir + "/results.md";
+        if (!failed.empty()) line += "; failed: " + names(failed);
+        if (!missing.empty()) line += "; missing: " + names(missing) + " (--run each, then --collect again)";
+        say(log, line);
+    }
+    return code;
+}
+
+int BenchApp::run(std::ostream& log, std::ostream& notes) {
+    if (help) {
+        log << usage();
+        return 0;
+    }
+    switch (mode) {
+        case Mode::Plan:
+            return printPlan(log, notes);
+        case Mode::Run:
+            return runPlanned(log);
+        case Mode::Collect:
+            checkPlanFile("--collect");
+            return execute(log, true);
+        case Mode::All:
+            break;
+    }
+    return execute(log, false);
 }
 
 }  // namespace superloc::app

@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <set>
 
 namespace superloc::app {
 namespace {
@@ -193,15 +194,21 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
             md += "\n";
         }
     }
-    md +=
-        "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] "
-        "|\n|---|---|---|---:|---:|---:|\n";
+    // The machine of each run when they ran on several (superloc-bench --run on each).
+    std::set<std::string> hosts;
+    for (const auto& r : runs)
+        if (!r.host.empty()) hosts.insert(r.host);
+    const bool by_host = hosts.size() > 1;
+    md += "\n## Runs\n\n| Sequence | Method | status | frames (est/GT) | wall [s] | peak RSS [MiB] |" +
+          std::string(by_host ? " host |" : "") + "\n|---|---|---|---:|---:|---:|" +
+          (by_host ? "---|" : "") + "\n";
     for (const auto& r : runs)
         md += "| " + r.sequence + " | " + r.method + " | " + r.status + " | " +
               (r.result ? std::to_string(r.result->est_frames) + "/" +
                               std::to_string(r.result->gt_frames)
                         : "–") +
-              " | " + fmt("%.1f", r.wall_s) + " | " + fmt("%.0f", r.peak_rss_mb) + " |\n";
+              " | " + fmt("%.1f", r.wall_s) + " | " + fmt("%.0f", r.peak_rss_mb) + " |" +
+              (by_host ? " " + r.host + " |" : "") + "\n";
     if (!plots.empty()) {
         md +=
             "\n## Plots\n\nTop views: GT grey, estimate coloured by min(γ_x, γ_y, γ_z) (red 0 → "
@@ -214,7 +221,7 @@ std::string resultsMarkdown(const std::vector<RunRecord>& runs,
 }
 
 std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
-                        unsigned jobs) {
+                        std::optional<unsigned> jobs) {
     io::Json list = io::Json::array();
     for (const auto& r : runs)
         list.push_back({{"sequence", r.sequence},
@@ -223,8 +230,12 @@ std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& s
                         {"wall_s", r.wall_s},
                         {"peak_rss_mb", r.peak_rss_mb},
                         {"gt_length_m", r.gt_length_m},
+                        {"host", r.host},
+                        {"version", r.version},
                         {"metrics", r.result ? eval::toJson(*r.result, false) : io::Json(nullptr)}});
-    return io::toJsonText({{"suite", suite_path}, {"jobs", jobs}, {"runs", list}}, "results.json");
+    return io::toJsonText(
+        {{"suite", suite_path}, {"jobs", jobs ? io::Json(*jobs) : io::Json(nullptr)}, {"runs", list}},
+        "results.json");
 }
 
 std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vector<SeedGroup>& groups,

@@ -137,10 +137,15 @@ std::string findTool(const std::string& name, const std::string& dir) {
     return "";
 }
 
-std::string selfDir() {
+std::string selfExe() {
     std::error_code ec;
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? std::string(".") : exe.parent_path().string();
+    return ec ? std::string() : exe.string();
+}
+
+std::string selfDir() {
+    const std::string exe = selfExe();
+    return exe.empty() ? std::string(".") : fs::path(exe).parent_path().string();
 }
 
 }  // namespace superloc::app

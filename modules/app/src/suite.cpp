@@ -4,6 +4,9 @@
 #include <superloc/app/suite.h>
 #include <superloc/io/rawlog.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -228,12 +231,19 @@ std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpe
     return a;
 }
 
+std::string shellQuote(const std::string& s) {
+    const bool plain = !s.empty() && std::all_of(s.begin(), s.end(), [](unsigned char c) {
+        return std::isalnum(c) || (c != 0 && std::strchr("_./:=@%+,-", c) != nullptr);
+    });
+    if (plain) return s;
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
 std::string joinCommand(const std::vector<std::string>& argv) {
     std::string s;
-    for (const auto& a : argv) {
-        if (!s.empty()) s += ' ';
-        s += a.find_first_of(" \t\"'") == std::string::npos ? a : "'" + a + "'";
-    }
+    for (const auto& a : argv) s += (s.empty() ? "" : " ") + shellQuote(a);
     return s;
 }
 

@@ -5,7 +5,9 @@
 
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -19,6 +21,14 @@ inline std::string errorOf(const std::function<void()>& f) {
         return e.what();
     }
     return "";
+}
+
+/// The whole content of a file ("" when it cannot be read).
+inline std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
 }
 
 /// ../shared/data (or the SUPERLOC_SHARED_DATA CMake cache path) joined with `rel`.

@@ -17,6 +17,9 @@ struct RunRecord {
     double wall_s = 0;                 ///< [s] wall time of the localize process
     double peak_rss_mb = 0;            ///< [MiB]
     double gt_length_m = 0;            ///< [m] path length of the sequence's GT
+    bool missing = false;  ///< --collect found no run of it (or its data never ran), or a stale one
+    std::string host;      ///< the machine that ran it
+    std::string version;   ///< the superloc-bench build that ran it
 };
 
 /// results.md: one table per metric (rows = methods, columns = sequences, like the paper's
@@ -42,9 +45,9 @@ std::string seedMeansMarkdown(const std::vector<RunRecord>& runs, const std::vec
 
 /// results.json: {"suite", "jobs", "runs": [...]} with every metric (no curves) per run; `jobs`
 /// runs were run at a time (superloc-bench --jobs: above 1 the times were measured on shared
-/// cores).
+/// cores); null when not known (--collect: another scheduler ran them).
 std::string resultsJson(const std::vector<RunRecord>& runs, const std::string& suite_path,
-                        unsigned jobs = 1);
+                        std::optional<unsigned> jobs = 1);
 
 /// Path length [m] of a trajectory (sum of consecutive translation distances).
 double pathLength(const Trajectory& traj);

@@ -35,7 +35,10 @@ void killChildOnTermination();
 /// apps/<name>/<name>), then the PATH. Empty when not found.
 std::string findTool(const std::string& name, const std::string& dir);
 
-/// Folder of the running executable (/proc/self/exe).
+/// Path of the running executable (/proc/self/exe).
+std::string selfExe();
+
+/// Folder of the running executable.
 std::string selfDir();
 
 }  // namespace superloc::app

@@ -79,7 +79,12 @@ std::vector<std::string> localizeCommand(const std::string& tool, const SuiteSpe
                                          const SequenceSpec& seq, const std::string& method,
                                          const SequenceFiles& files, const std::string& out_dir);
 
-/// argv joined for a log line, with arguments containing blanks quoted.
+/// `s` as one word of a POSIX shell: as it is when made of [A-Za-z0-9_./:=@%+,-] only, else in
+/// single quotes (a ' inside as '\'').
+std::string shellQuote(const std::string& s);
+
+/// argv as a shell command line (each argument through shellQuote): for log lines and the
+/// commands of superloc-bench --plan.
 std::string joinCommand(const std::vector<std::string>& argv);
 
 /// The blank-separated words of an INI value or a command-line list ("superloc icp").
