@@ -119,6 +119,29 @@ TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
             << bad;
 }
 
+// --sequences takes a seeded sequence's section name for all its seeds (what a user reads in the
+// suite file), or NAME_sN for one seed; listing both keeps each sequence once.
+TEST(BenchApp, SequencesBySectionNameTakeEverySeed) {
+    const std::string d = superloc::testing::freshDir("bench_app_sequence_groups");
+    std::ofstream(d + "/localize.ini") << "[localization]\n";
+    std::ofstream(d + "/world.ini") << "[sim]\n";
+    std::ofstream(d + "/suite.ini")
+        << "[suite]\nmethods = icp\nsequences = w v\nlocalize_config = localize.ini\n"
+        << "[seq.w]\ntype = sim\nconfig = world.ini\nseeds = 1 2 3\n"
+        << "[seq.v]\ntype = sim\nconfig = world.ini\n";
+    BenchApp app;
+    app.initialize({d + "/suite.ini", "--out", d + "/out", "--sequences", "v w w_s2"});
+    std::vector<std::string> names;
+    for (const auto& q : app.suite.sequences) names.push_back(q.name);
+    EXPECT_EQ(names, (std::vector<std::string>{"v", "w_s1", "w_s2", "w_s3"}));
+    BenchApp one;
+    one.initialize({d + "/suite.ini", "--out", d + "/out", "--sequences", "w_s3"});
+    ASSERT_EQ(one.suite.sequences.size(), 1u);
+    EXPECT_EQ(one.suite.sequences[0].name, "w_s3");
+    EXPECT_THROW(BenchApp().initialize({d + "/suite.ini", "--out", d, "--sequences", "w_s4"}),
+                 std::invalid_argument);
+}
+
 TEST(BenchApp, JobsGiveTheResultsOfOneJob) {
     const std::string d = superloc::testing::freshDir("bench_app_jobs");
     const std::string tools = writeTwoSequenceSuite(d, "good lift stop", 60);

@@ -83,7 +83,7 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
                    "folder of superloc-sim/-import/-map/-localize (default: next to this executable,\n"
                    "the build tree, then PATH)")
         ->type_name("DIR");
-    cli.add_option("--sequences", f.only_seq, "run only these sequences of the suite")->type_name("\"a b\"");
+    cli.add_option("--sequences", f.only_seq, "run only these sequences of the suite (NAME of a [seq.NAME] with seeds: all of them)")->type_name("\"a b\"");
     cli.add_option("--methods", f.only_meth, "run only these methods of the suite")->type_name("\"m1 m2\"");
     cli.add_flag("--fresh", app.fresh, "regenerate simulated/imported data even if present");
     cli.add_flag("--drop-data", app.drop_data,
@@ -176,10 +176,16 @@ void BenchApp::initialize(const std::vector<std::string>& args) {
         std::vector<SequenceSpec> keep;
         for (const auto& name : splitWords(only_seq)) {
             bool found = false;
+            // A sequence (NAME_sN of a seeded one), or a suite section: every seed of it.
             for (const auto& s : suite.sequences)
-                if (s.name == name) keep.push_back(s), found = true;
+                if (s.name == name || s.group == name) {
+                    found = true;
+                    if (std::none_of(keep.begin(), keep.end(), [&](const SequenceSpec& k) { return k.name == s.name; }))
+                        keep.push_back(s);
+                }
             if (!found)
-                throw std::invalid_argument("--sequences: '" + name + "' is not in " + suite_path);
+                throw std::invalid_argument("--sequences: '" + name + "' is not in " + suite_path +
+                                            " (a [seq.NAME] section, or NAME_sN for one of its seeds)");
         }
         suite.sequences = keep;
     }
