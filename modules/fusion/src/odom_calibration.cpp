@@ -198,21 +198,6 @@ Vec6d OdomCalibration::sigma(const SE3d& odom) const {
     return s;
 }
 
-Vec6d OdomCalibration::incrementSigma(const SE3d& odom) const {
-    const double d = odom.translation().norm();
-    Vec6d s;
-    for (int k = 0; k < 6; ++k) {
-        const Axis& a = axes_[k];
-        if (!calibrated(k) || !a.worth) {
-            s[k] = std::numeric_limits<double>::quiet_NaN();
-            continue;
-        }
-        const double floor = k >= 3 ? p_.sigma_floor_rot : p_.sigma_floor_xyz;
-        s[k] = std::max(floor, std::sqrt(std::max(0.0, a.wa * d + a.wb * d * d)));
-    }
-    return s;
-}
-
 Vec6d OdomCalibration::shrink() const {
     Vec6d v;
     for (int k = 0; k < 6; ++k) v[k] = shrinkAt(axes_[k], axes_[k].since_m);

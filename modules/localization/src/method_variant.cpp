@@ -36,19 +36,10 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     if (f.odom_cov_prev && f.odom_cov_cur) sigma = fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_);
     fusion::RelativePosePrior p;
     p.delta = *f.odom_delta;
-    // Without IMU the solve holds a blind axis with the frame's own increment, sqrt(a d + b d^2):
-    // the only other pull there is the scan's information below its noise floor, and a weight
-    // that falls with the distance since held (the error's growth is a drift the weight cannot
-    // remove) hands the axis to that noise. The pose's covariance still takes the grown
-    // V(D + d) - V(D) (`worth`). With IMU the IMU chain holds the frame's motion and the grown
-    // sigma is the solve's weight too: a stiffer, drifting odom_alt teaches the chain its drift.
-    const bool own_increment = !f.pred_motion_var;
-    Vec6d sigma_worth = sigma;
     if (p_.odom_calibration) {
         const Vec6d cal = calib_.sigma(*f.odom_delta);
-        const Vec6d inc = calib_.incrementSigma(*f.odom_delta);
         for (int k = 0; k < 6; ++k)
-            if (std::isfinite(cal[k])) sigma[k] = own_increment ? inc[k] : cal[k], sigma_worth[k] = cal[k];
+            if (std::isfinite(cal[k])) sigma[k] = cal[k];
         p.delta = calib_.correct(*f.odom_delta);
     }
     // The innovation test: odom_alt's (corrected) motion against the IMU-carried prediction's,
@@ -67,7 +58,6 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     const Vec6d w_odom = sigma.cwiseAbs2().cwiseInverse();
     const Mat6d W = f.est.G * w_odom.asDiagonal() * f.est.G;
     p.sqrt_info = fusion::sqrtInfo(W);
-    if (own_increment) p.worth = f.est.G * sigma_worth.cwiseAbs2().cwiseInverse().asDiagonal() * f.est.G;
     return p;
 }
 

@@ -20,7 +20,7 @@ struct RelativePosePrior {
     SE3d delta = SE3d::Identity();  ///< T_imu(prev)_imu(cur)
     Mat6d sqrt_info = Mat6d::Zero();
     /// The information odom_alt is worth over the frame, for the pose's covariance
-    /// (PosePosterior), where the solve holds it on another scale (superloc without IMU); empty:
+    /// (PosePosterior), where the solve holds it on another scale (superloc with IMU); empty:
     /// sqrt_info's.
     std::optional<Mat6d> worth;
 };

@@ -75,9 +75,6 @@ class OdomCalibration {
     /// taken at the distance since the scan last held each axis (out of sample, above); NaN
     /// where the axis has no fit, or no measured worth, yet.
     Vec6d sigma(const SE3d& odom) const;
-    /// Per-frame std of the corrected motion's increment over the frame alone, sqrt(a d + b d^2)
-    /// (the worth's model without the growth since held); NaN like sigma().
-    Vec6d incrementSigma(const SE3d& odom) const;
     /// The in-sample std (the fit's own residual, as before the out-of-sample worth), NaN where
     /// not calibrated: for comparison (tests, doc/method.md).
     Vec6d fitSigma(const SE3d& odom) const;
