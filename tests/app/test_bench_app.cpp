@@ -94,13 +94,18 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
               std::string::npos);
 }
 
-TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
-    const std::string d = superloc::testing::freshDir("bench_app_missing");
+/// A suite of simulated sequences (its [suite] and [seq.*] text `body`) with an empty localize
+/// INI and an empty world INI beside it, in `d`.
+static void writeSimSuite(const std::string& d, const std::string& body) {
     std::ofstream(d + "/localize.ini") << "[localization]\n";
     std::ofstream(d + "/world.ini") << "[sim]\n";
-    std::ofstream(d + "/suite.ini")
-        << "[suite]\nmethods = icp\nsequences = w\nlocalize_config = localize.ini\n"
-        << "[seq.w]\ntype = sim\nconfig = world.ini\n";
+    std::ofstream(d + "/suite.ini") << body;
+}
+
+TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
+    const std::string d = superloc::testing::freshDir("bench_app_missing");
+    writeSimSuite(d, "[suite]\nmethods = icp\nsequences = w\nlocalize_config = localize.ini\n"
+                     "[seq.w]\ntype = sim\nconfig = world.ini\n");
     BenchApp app;
     app.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", d + "/none"});
     std::ostringstream log;
@@ -123,12 +128,9 @@ TEST(BenchApp, MissingToolsAndBadArgumentsAreReported) {
 // suite file), or NAME_sN for one seed; listing both keeps each sequence once.
 TEST(BenchApp, SequencesBySectionNameTakeEverySeed) {
     const std::string d = superloc::testing::freshDir("bench_app_sequence_groups");
-    std::ofstream(d + "/localize.ini") << "[localization]\n";
-    std::ofstream(d + "/world.ini") << "[sim]\n";
-    std::ofstream(d + "/suite.ini")
-        << "[suite]\nmethods = icp\nsequences = w v\nlocalize_config = localize.ini\n"
-        << "[seq.w]\ntype = sim\nconfig = world.ini\nseeds = 1 2 3\n"
-        << "[seq.v]\ntype = sim\nconfig = world.ini\n";
+    writeSimSuite(d, "[suite]\nmethods = icp\nsequences = w v\nlocalize_config = localize.ini\n"
+                     "[seq.w]\ntype = sim\nconfig = world.ini\nseeds = 1 2 3\n"
+                     "[seq.v]\ntype = sim\nconfig = world.ini\n");
     BenchApp app;
     app.initialize({d + "/suite.ini", "--out", d + "/out", "--sequences", "v w w_s2"});
     std::vector<std::string> names;
