@@ -40,5 +40,12 @@ cmake --build $B -j "$(nproc)"
 #                                           synthetic GlobalSearch.* and Health.* tests stay
 #   Docs.*CommandsRun (README's and doc/your-data.md's commands, ~1 min in Release: the apps'
 #                                           paths the e2e tests cover); the other Docs.* tests stay
-EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|BenchQuick\.PlanThrough.*|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*|Docs\..*CommandsRun)$'
+#   FaultsSim.{CleanControl,LidarDropout2s,OdomAltGap,LidarDropoutOverImuGap,
+#     BackwardsTimestampWithinWindow} 130   the faults that feed odd input (NaN flood, five
+#                                           points, a timestamp beyond the window, an IMU gap) stay
+#   KittiFixture.TiledMapFollowsTheRobot 48, KittiFixture.OddScansLocalizedFromFirstGtPose 24,
+#   ActiveFusion.CorridorMethodsAgainstIcp 31   the tiled-map unit tests, ...FromPerturbedStart and
+#                                           the ActiveFusion unit tests stay
+# (Together about 2 minutes of the stage on 2 cores: CI is kept under 30 minutes.)
+EXCLUDE='^(GlobalLocalization\..*|GlobalSearchReal\..*|KittiFixture\.FarInitial.*|BenchQuick\.Smoke|BenchQuick\.PlanThrough.*|Install\.ConsumerProject|LocalizeSim\.FeaturelessCorridor.*|LocalizeSim\.NdtTiltOnTheStairs.*|RealSplitRuns\..*|Basin\..*|FaultsReal\.Campus.*|RawlogInfo\.EveryWorldPassesRawlogEdit|ScanOnMap\.(CorridorCarTurningAtSpeed|OfficeHandheld)|KittiFixture\.EveryScanLocalized.*|MapReal\..*|Docs\..*CommandsRun|FaultsSim\.(CleanControl|LidarDropout2s|OdomAltGap|LidarDropoutOverImuGap|BackwardsTimestampWithinWindow)|KittiFixture\.(TiledMapFollowsTheRobot|OddScansLocalizedFromFirstGtPose)|ActiveFusion\.CorridorMethodsAgainstIcp)$'
 cd $B && ctest --output-on-failure -j "$(nproc)" --timeout 900 -E "$EXCLUDE" "$@"
