@@ -35,7 +35,13 @@ Prediction predictMotion(const fusion::FrameState& prev, const std::optional<fus
                 const Vec6d xi = toVec6(*m) / (t - prev.t);
                 pr.T_map_imu = T_prev * *m;
                 pr.v_body = xi.head<3>();
-                pr.w_body = xi.tail<3>();
+                // The sweep is deskewed with odom_alt's own rotation rate, not the calibrated
+                // one: the calibration's rotation scale is learned from scans deskewed with this
+                // rate, and a deskew's rotation error moves the registered attitude of a swaying
+                // sensor by more than itself (the increments alternate in sign frame to frame).
+                // Fed back, that loop grew the simulated corridor's 0.3 deg, 3 Hz pitch sway into
+                // a 1-2 deg oscillation of the estimate (doc/method.md §2 "Without IMU").
+                pr.w_body = toVec6(*d).tail<3>() / (t - prev.t);
                 pr.v = T_prev.linear() * pr.v_body;
                 pr.from_odom = true;
                 return pr;
