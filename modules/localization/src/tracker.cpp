@@ -154,7 +154,9 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
         in.prior = *sol.prior;
         if (sol.prior->worth) in.prior->sqrt_info = fusion::sqrtInfo(*sol.prior->worth);
     }
-    sol.post = post_.update(in, params_.fusion, sol.scan_info);
+    // The scan as the estimate adds it: nothing below the noise floor along a direction the
+    // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
+    sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info);
     rep.cov = sol.post->cov;
     rep.cov.diagonal() += sweepSigma(f, sol.state, rep.deskewed).cwiseAbs2();
 }

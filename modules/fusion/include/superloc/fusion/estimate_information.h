@@ -82,8 +82,12 @@ class EstimateInformation {
     /// the motion since the last frame). Empty before predict() or without IMU.
     std::optional<Vec6d> motionVariance(double dt, const Mat3d& R_map_imu) const;
 
-   private:
+    /// The scan information `H` without its part along the carried covariance's weak
+    /// translation directions where that part is below the noise floor (what information()
+    /// adds; the pose's covariance adds the same, PosePosterior). `H` itself before predict().
     Mat6d scanPart(const Mat6d& H) const;
+
+   private:
     double floor_share_, weak_xyz_;
     std::optional<StatePrior> prior_;  ///< on the last committed state
     std::optional<Mat15d> carried_;    ///< on the current state, before its scan
