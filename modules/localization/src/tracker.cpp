@@ -112,12 +112,18 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
         posterior(f, sol, rep);
     else
         scanCovariance(sol, rep);
-    // How long the scan has left a translation axis to the prediction alone (HealthMonitor).
+    // How long the prediction alone has carried a translation axis the scan leaves weak, counted
+    // from the first frame of that stretch whose position std passed what a navigation stack
+    // tolerates (HealthMonitor, doc/health.md): a stretch the covariance holds within the
+    // tolerance is not dead reckoning; one it has let go of stays so until the scan holds the
+    // axis again, whatever the covariance says meanwhile (an end wall coming into view collapses
+    // it before the solve has caught up).
     const double hold = 1.0 / std::pow(params_.health.max_sigma_xyz / 10.0, 2);
     bool blind = false;
     for (int k = 0; k < 3; ++k) blind |= rep.gamma[k] < params_.health.weak_gamma && !(rep.prior_weight[k] >= hold);
     if (!blind || rep.diverged) blind_since_.reset();
-    else if (!blind_since_) blind_since_ = f.scan->t;
+    else if (!blind_since_ && fusion::largestStd(rep.cov.topLeftCorner<3, 3>()) > params_.health.max_sigma_xyz)
+        blind_since_ = f.scan->t;
     rep.dead_reckoning_s = blind_since_ ? f.scan->t - *blind_since_ : 0.0;
     return sol;
 }

@@ -50,7 +50,7 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// carries the IMU chain with [imu]'s noise densities and bias walks times this. The solver
     /// keeps [imu]'s own, inflated for robustness; this makes the estimate's std along a blind
     /// axis the error the IMU chain really makes (doc/method.md §2, "The estimate's own sigma")
-    double estimate_imu_scale = 0.2;
+    double estimate_imu_scale = 0.5;
     /// The reported pose's covariance (fusion::PosePosterior, doc/method.md §4): a floor per axis
     /// for the errors all of a frame's residuals share (map, deskew, timing)
     double cov_floor_xyz = 0.01;    ///< [m]

@@ -141,7 +141,9 @@ class Tracker {
     };
     /// The reported pose's covariance (doc/method.md §4): scan, IMU window and odom_alt together.
     fusion::PosePosterior post_;
-    std::optional<double> blind_since_;  ///< [s] since when a weak axis is held by nothing measured
+    /// [s] since when a weak axis held by nothing measured has had the pose's position std
+    /// above [health] max_sigma_xyz (the stretch's first such frame)
+    std::optional<double> blind_since_;
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
     void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
