@@ -26,9 +26,11 @@ void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::F
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (doc/method.md §3).
     features::SweepMotion motion;
-    if (p_.deskew && (pred.twist_from_imu || pred.from_odom || p_.deskew_without_imu) &&
-        scan.rel_time.size() == scan.size() && !scan.empty()) {
-        const float s_min = *std::min_element(scan.rel_time.begin(), scan.rel_time.end());
+    const float s_min = p_.deskew && scan.rel_time.size() == scan.size() && !scan.empty()
+                            ? *std::min_element(scan.rel_time.begin(), scan.rel_time.end())
+                            : 0.0f;
+    out.sweep_s = s_min < 0 ? -double(s_min) : 0.0;
+    if (pred.twist_from_imu || pred.from_odom || p_.deskew_without_imu) {
         if (s_min < 0) {
             if (p_.deskew_imu_poses && pred.used_imu) {
                 // Along the IMU's trajectory from the previous state (its last pose is this

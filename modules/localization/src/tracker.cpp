@@ -4,7 +4,6 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/tracker.h>
 
-#include <algorithm>
 #include <cmath>
 
 namespace superloc::localization {
@@ -164,10 +163,10 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
     sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info);
     rep.cov = sol.post->cov;
-    rep.cov.diagonal() += sweepSigma(f, sol.state, rep.deskewed).cwiseAbs2();
+    rep.cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
 }
 
-Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur, bool deskewed) const {
+Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur) const {
     // What the sweep's motion leaves in the registered pose, per body axis (doc/method.md §4):
     // deskewed along the IMU's trajectory, nothing beyond the floor. Otherwise the scan is an
     // average over the sweep's poses, and the pose is off by what the deskew did not undo:
@@ -180,17 +179,13 @@ Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur, bool de
     // - deskewed with the constant velocity of the last two frames: half a sweep of the change
     //   between that velocity and the solved one (a wrong rate's error grows linearly over the
     //   sweep).
+    // No span where `[features] deskew = false` says the sweeps come motion-compensated (KITTI's
+    // scans) or the points carry no times (ScanFeatures::sweep_s).
     Vec6d s = Vec6d::Zero();
-    const Scan& scan = *f.scan;
-    // `[features] deskew = false` says the sweeps come motion-compensated (KITTI's scans).
-    if (!params_.features.deskew || f.first || f.pred.twist_from_imu || scan.rel_time.size() != scan.size() ||
-        scan.empty())
-        return s;
-    const double T = -double(*std::min_element(scan.rel_time.begin(), scan.rel_time.end()));
-    const double dt = cur.t - f.prev.t;
-    if (!(T > 0 && T < 1.0 && dt > 0)) return s;
+    const double T = f.features.sweep_s, dt = cur.t - f.prev.t;
+    if (f.first || f.pred.twist_from_imu || !(T > 0 && T < 1.0 && dt > 0)) return s;
     const Vec6d xi = toVec6(f.prev.T_map_imu().inverse() * cur.T_map_imu()) / dt;  // solved body twist
-    if (!deskewed) return (xi * (0.5 * T)).cwiseAbs();
+    if (f.features.motion.empty()) return (xi * (0.5 * T)).cwiseAbs();
     if (f.pred.from_odom) {
         const auto half = sensors_.odomAltDelta(cur.t - T, cur.t - 0.5 * T), whole = sensors_.odomAltDelta(cur.t - T, cur.t);
         if (half && whole) return (2.0 / 3.0) * (toVec6(*half) - 0.5 * toVec6(*whole)).cwiseAbs();

@@ -24,6 +24,9 @@ struct ScanFeatures {
     std::vector<Vec3d> pts_body;        ///< ... in the body frame: what registration aligns
     std::vector<Vec3f> ndt_source;      ///< method ndt: every candidate, deskewed
     features::SweepMotion motion;       ///< the motion over the sweep the points are deskewed by
+    /// [s] the sweep's span (−min of the points' relative times) where `[features] deskew` is on
+    /// and the points are timed; 0 otherwise
+    double sweep_s = 0;
     SE3d T_imu_lidar = SE3d::Identity();
 
     /// Deskews the features again along `m` (the sweep velocity estimated with the pose).

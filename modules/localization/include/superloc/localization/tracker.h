@@ -147,11 +147,11 @@ class Tracker {
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
     void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
-    /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
-    /// scan alone, above its noise floor (doc/method.md §4).
     /// The std per body axis (x y z [m], roll pitch yaw [rad]) the sweep's motion leaves in the
     /// pose where it was not deskewed along the IMU (added to the posterior's covariance).
-    Vec6d sweepSigma(const Frame& f, const fusion::FrameState& cur, bool deskewed) const;
+    Vec6d sweepSigma(const Frame& f, const fusion::FrameState& cur) const;
+    /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
+    /// scan alone, above its noise floor (doc/method.md §4).
     void scanCovariance(const FrameSolution& sol, FrameReport& rep) const;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
