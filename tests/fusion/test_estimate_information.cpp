@@ -41,6 +41,30 @@ Vec6d weakSigma() {
     w << Vec3d::Constant(0.05), Vec3d::Constant(0.5 * M_PI / 180);
     return w;
 }
+
+/// 0.1 s of an IMU at rest reading gravity only (the motion is the states').
+imu::Preintegration gravityOnly() {
+    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.005);
+    return pre;
+}
+
+/// The state 0.1 s and 0.5 m along body x after `prev` (5 m/s).
+FrameState nextAlongX(const FrameState& prev) {
+    FrameState cur = prev;
+    cur.t = prev.t + 0.1;
+    cur.setPose(prev.T_map_imu() * makePoseRPY(0.5, 0, 0, 0, 0, 0));
+    return cur;
+}
+
+/// The IMU window from `prev` to `cur` through `pre`.
+FrameProblemInputs window(FrameState& prev, FrameState& cur, const imu::Preintegration& pre) {
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.imu = &pre;
+    return in;
+}
 }  // namespace
 
 TEST(EstimateInformation, NoiseFloorTakesTheCorridorAxisNotTheWalls) {
@@ -88,8 +112,7 @@ TEST(EstimateInformation, ImuWindowCarriesXForAWhileThenLetsGo) {
     // x. The carried information keeps x known for a few frames, then it is weak; a scan that
     // holds x makes it strong again at once.
     FusionParams params;
-    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
-    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.005);
+    const imu::Preintegration pre = gravityOnly();
     Mat6d scan_no_x = Mat6d::Zero();
     scan_no_x.diagonal() << 0, 1e5, 1e5, 1e6, 1e6, 1e6;
     Mat6d scan_all = scan_no_x;
@@ -99,14 +122,8 @@ TEST(EstimateInformation, ImuWindowCarriesXForAWhileThenLetsGo) {
     prev.setVelocity(Vec3d(5, 0, 0));
     Vec6d sigma_first, sigma_last;
     for (int k = 0; k < 20; ++k) {
-        FrameState cur = prev;
-        cur.t = prev.t + 0.1;
-        cur.setPose(prev.T_map_imu() * makePoseRPY(0.5, 0, 0, 0, 0, 0));
-        FrameProblemInputs in;
-        in.prev = &prev;
-        in.cur = &cur;
-        in.imu = &pre;
-        est.predict(in, params);
+        FrameState cur = nextAlongX(prev);
+        est.predict(window(prev, cur, pre), params);
         const Mat6d& H = k == 0 ? scan_all : scan_no_x;
         const Weakness w = weakness(est.information(H), weakSigma());
         if (k == 1) sigma_first = w.sigma;
@@ -134,8 +151,7 @@ TEST(EstimateInformation, ImuWindowCarriesXForAWhileThenLetsGo) {
 // 0.3-2 m off.
 TEST(EstimateInformation, PoseCovarianceTakesTheScanAsTheEstimateDoes) {
     FusionParams params;
-    imu::Preintegration pre(imu::ImuBias{}, imu::ImuNoise{0.02, 0.002});
-    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0, 0, 9.81), Vec3d::Zero(), 0.005);
+    const imu::Preintegration pre = gravityOnly();
     // The translation block's x share: 0.6 % of its trace, just above sin^2(4 deg) = 0.49 %.
     Mat6d scan = Mat6d::Zero();
     scan.diagonal() << 1.2e3, 1e5, 1e5, 1e6, 1e6, 1e6;
@@ -148,13 +164,8 @@ TEST(EstimateInformation, PoseCovarianceTakesTheScanAsTheEstimateDoes) {
     prev.setVelocity(Vec3d(5, 0, 0));
     double est_x = 0, with_x = 0, without_x = 0;
     for (int k = 0; k < 100; ++k) {
-        FrameState cur = prev;
-        cur.t = prev.t + 0.1;
-        cur.setPose(prev.T_map_imu() * makePoseRPY(0.5, 0, 0, 0, 0, 0));
-        FrameProblemInputs in;
-        in.prev = &prev;
-        in.cur = &cur;
-        in.imu = &pre;
+        FrameState cur = nextAlongX(prev);
+        const FrameProblemInputs in = window(prev, cur, pre);
         est.predict(in, params);
         est_x = std::sqrt(cappedCovariance(est.information(H))(0, 0));
         const auto u = with.update(in, params, est.scanPart(H));
