@@ -1,6 +1,6 @@
-// superloc-bench split for another scheduler, on a cut-down quick suite (ini/bench/quick.ini's
-// office, 6 s instead of 12, and kitti00-mini, superloc and icp: the suite runs twice here, and
-// BenchQuick.Smoke runs the whole quick suite; doc/evaluation.md#runs-split-for-a-scheduler):
+// superloc-bench split for another scheduler, on the quick suite without its corridor
+// (ini/bench/quick.ini --sequences "office kitti00-mini", superloc and icp: the suite runs twice
+// here, and BenchQuick.Smoke runs all of it; doc/evaluation.md#runs-split-for-a-scheduler):
 // `--plan | parallel -j 2`, then `--collect`, gives the tables, JSON and plots of `--jobs 1`.
 // Left out of the comparison (superloc_testing/bench_results.h), because they are measured or
 // say how the runs were started: results.md's preamble (command, date, the --collect note), the
@@ -15,7 +15,6 @@
 #include <superloc_testing/testing.h>
 
 #include <filesystem>
-#include <fstream>
 
 namespace fs = std::filesystem;
 using namespace superloc::app;
@@ -30,18 +29,8 @@ TEST(BenchQuick, PlanThroughParallelGivesTheResultsOfOneJob) {
     const std::string exe = superloc::testing::appPath("superloc-bench");
     ASSERT_TRUE(fs::exists(exe)) << exe << " not built";
     const std::string d = superloc::testing::freshDir("bench_quick_plan");
-    // quick.ini's office and kitti00-mini sections as they are, the office shorter.
-    const std::string ini = d + "/suite.ini";
-    std::ofstream(ini) << "[suite]\nmethods = superloc icp\nsequences = office kitti00-mini\n"
-                       << "localize_config = " << superloc::testing::sourcePath("ini/localize.ini") << "\n"
-                       << "localize_set = run.localized_map_voxel=0.05\ntimeout = 300\n"
-                       << "[eval]\nassoc_tolerance = 0.02\noutlier_threshold = 0.10\nmap_voxel = 0.05\n"
-                       << "[seq.office]\ntype = sim\nconfig = " << superloc::testing::sourcePath("ini/sim/office.ini")
-                       << "\nseed = 1\nsim_set = sim.duration=6\n"
-                       << "[seq.kitti00-mini]\ntype = kitti\ndata = kitti00-mini\ngt = gt_velodyne_tum.txt\n"
-                       << "prior_voxel = 0.1\nmap_scans = even\nlocalize_scans = odd\n"
-                       << "localize_set = features.deskew=false\n";
-    const std::string bench = joinCommand({exe, ini, "--out"});
+    const std::string bench = joinCommand({exe, superloc::testing::sourcePath("ini/bench/quick.ini"), "--sequences",
+                                           "office kitti00-mini", "--out"});
     const auto sh = [&](const std::string& command, const std::string& log) {
         const ProcessResult p = runProcess({"/bin/sh", "-c", command}, d + "/" + log, 900);
         return std::make_pair(p.exit_code, slurp(d + "/" + log));
