@@ -141,20 +141,20 @@ static void BM_PoseCovariance(benchmark::State& st) {
     FrameState prev, cur;
     cur.setPose(T);
     prev.setPose(T * makePoseRPY(-0.5, 0, 0, 0, 0, -0.01));
-    PosePosterior post(Vec6d::Constant(0.01));
+    PosePosterior post(Vec6d::Constant(0.01), 0.005);
     RelativePosePrior prior;
     prior.delta = prev.T_map_imu().inverse() * cur.T_map_imu();
     prior.sqrt_info = Mat6d::Identity() * 100;
     for (auto _ : st) {
         const Mat6d H = informationAboveNoise(scanInformation(corr, T, 0.05), 0.0049);
-        benchmark::DoNotOptimize(post.covariance(H));
+        benchmark::DoNotOptimize(post.covariance(H, H));
         FrameState p = prev, c = cur;
         FrameProblemInputs in;
         in.prev = &p;
         in.cur = &c;
         in.imu = &pre;
         in.prior = prior;
-        const auto u = post.update(in, params, H);
+        const auto u = post.update(in, params, H, H);
         post.commit(u);
         benchmark::DoNotOptimize(u.cov);
     }

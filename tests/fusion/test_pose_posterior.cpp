@@ -45,7 +45,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
     prev.setPose(SE3d::Identity());
     FrameProblemInputs in0;
     in0.cur = &prev;
-    auto u = post.update(in0, params, H0);
+    auto u = post.update(in0, params, H0, H0);
     post.commit(u);
     EXPECT_NEAR(u.cov(0, 0), 0.05 * 0.05 + 0.01 * 0.01, 1e-8);
     const double sf = 0.02;  // odom_alt's std per frame along x
@@ -60,7 +60,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
         in.prev = &prev;
         in.cur = &cur;
         in.prior = p;
-        u = post.update(in, params, H);
+        u = post.update(in, params, H, H);
         post.commit(u);
         prev = cur;
     }
@@ -73,7 +73,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
     post.reset();
     FrameProblemInputs alone;
     alone.cur = &cur;
-    u = post.update(alone, params, H);
+    u = post.update(alone, params, H, H);
     EXPECT_GT(std::sqrt(u.cov(0, 0)), 100.0);
 }
 
@@ -91,4 +91,47 @@ TEST(PosePosterior, ReportedCovarianceIsInTheMapFrameOfTheReportedPose) {
     const Mat6d R1 = toReported(C, T, makePoseRPY(1.0, 0, 0, 0, 0, 0));  // 1 m ahead along body x
     // yaw's 0.01 rad moves the point 1 m ahead by 1 cm across the body: along the map's x.
     EXPECT_NEAR(R1(0, 0), 0.0001 + 1e-4 * 1.0, 1e-9);
+}
+
+// The map's coherent error turns the pose by map_sigma over the scan's lever arm: in a cube room
+// of half-size a (points spread uniformly over the six walls), the torque arm about z is y on the
+// x walls and x on the y walls and nothing on floor and ceiling, so 3 H_zz / tr H_tt = 3 (4/6)
+// (a^2/3) = 2 a^2 / 3 for every axis. A room twice as large halves the floor; no scan, no floor.
+TEST(PosePosterior, MapRotationFloorIsTheMapErrorOverTheScansLeverArm) {
+    const auto room = [](double a) {
+        std::vector<Correspondence> c;
+        const int m = 40;
+        for (int axis = 0; axis < 3; ++axis)
+            for (int side = -1; side <= 1; side += 2)
+                for (int i = 0; i < m; ++i)
+                    for (int j = 0; j < m; ++j) {
+                        const double u = a * (-1 + (2.0 * i + 1) / m), v = a * (-1 + (2.0 * j + 1) / m);
+                        Correspondence k;
+                        k.p[axis] = side * a;
+                        k.p[(axis + 1) % 3] = u;
+                        k.p[(axis + 2) % 3] = v;
+                        k.q = k.p;
+                        k.n = Vec3d::Zero();
+                        k.n[axis] = side;
+                        c.push_back(k);
+                    }
+        return scanInformation(c, SE3d::Identity(), 0.05);
+    };
+    const double sigma = 0.005;
+    const Vec3d f4 = mapRotationFloor(room(4.0), sigma), f8 = mapRotationFloor(room(8.0), sigma);
+    const double expected = sigma / (4.0 * std::sqrt(2.0 / 3.0));  // 1.53 mrad = 0.088 deg
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(f4[k], expected, 0.01 * expected) << k;
+        EXPECT_NEAR(f8[k], 0.5 * expected, 0.01 * expected) << k;
+    }
+    EXPECT_EQ(mapRotationFloor(Mat6d::Zero(), sigma), Vec3d::Zero());
+    EXPECT_EQ(mapRotationFloor(room(4.0), 0.0), Vec3d::Zero());
+    // The posterior's floor: the fixed floor where it is larger, the map's where that is.
+    Vec6d fixed;
+    fixed << 0.01, 0.01, 0.01, 0.001, 0.001, 0.001;
+    const PosePosterior post(fixed, sigma);
+    const Vec6d f = post.floor(room(4.0));
+    EXPECT_EQ(f.head<3>(), fixed.head<3>());
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[3 + k], expected, 0.01 * expected);
+    EXPECT_NEAR(post.floor(room(40.0))[3], 0.001, 1e-12);  // a 40 m hall: 0.15 mrad, the fixed floor holds
 }

@@ -29,25 +29,42 @@ double largestStd(const Mat3d& C) {
     return std::sqrt(std::max(0.0, Eigen::SelfAdjointEigenSolver<Mat3d>(0.5 * (C + C.transpose())).eigenvalues()[2]));
 }
 
-Mat6d PosePosterior::covariance(const Mat6d& info) const {
+Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
+    Vec3d f = Vec3d::Zero();
+    const double tt = H(0, 0) + H(1, 1) + H(2, 2);
+    if (!(map_sigma > 0) || !(tt > 0) || !std::isfinite(tt)) return f;
+    for (int k = 0; k < 3; ++k) {
+        const double rr = H(3 + k, 3 + k);
+        if (rr > 0 && std::isfinite(rr)) f[k] = map_sigma / std::sqrt(3.0 * rr / tt);
+    }
+    return f;
+}
+
+Vec6d PosePosterior::floor(const Mat6d& H) const {
+    Vec6d f = floor_;
+    f.tail<3>() = f.tail<3>().cwiseMax(mapRotationFloor(H, map_sigma_));
+    return f;
+}
+
+Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H) const {
     Mat6d C = cappedCovariance(info);
-    C.diagonal() += floor_.cwiseAbs2();
+    C.diagonal() += floor(H).cwiseAbs2();
     return 0.5 * (C + C.transpose());
 }
 
 PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
-                                            const Mat6d& H) const {
+                                            const Mat6d& H, const Mat6d& H_added) const {
     Update u;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
-    Mat6d pose_info = H;
+    Mat6d pose_info = H_added;
     if (in.imu && in.imu->dt() > 0) {
         FrameProblemInputs p = in;
         p.prev_prior = prior_ ? &*prior_ : nullptr;
         if (const auto carried = imuWindowStateInformation(p, params)) {
             u.with_imu = true;
             u.info = *carried;
-            u.info.topLeftCorner<6, 6>() += H;
+            u.info.topLeftCorner<6, 6>() += H_added;
             if (const auto I = poseInformation(u.info)) pose_info = *I;
         }
     } else if (pose_prior_ && in.prior && in.prev) {
@@ -65,7 +82,7 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
         }
     }
     if (!u.with_imu) u.info.topLeftCorner<6, 6>() = pose_info;
-    u.cov = covariance(pose_info);
+    u.cov = covariance(pose_info, H);
     return u;
 }
 

@@ -28,7 +28,7 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
           floor << Vec3d::Constant(params.fusion.active.cov_floor_xyz),
               Vec3d::Constant(params.fusion.active.cov_floor_deg * kDeg);
           return floor;
-      }()) {}
+      }(), params.fusion.active.cov_map_xyz) {}
 
 void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt) {
     map_ = std::move(map);
@@ -146,8 +146,9 @@ Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fu
 void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
     const auto t0 = Clock::now();
     const double n = params_.risk.normal_noise_deg * kDeg;
-    rep.cov = post_.covariance(fusion::informationAboveNoise(
-        fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), std::pow(std::sin(n), 2)));
+    const Mat6d H = fusion::informationAboveNoise(
+        fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), std::pow(std::sin(n), 2));
+    rep.cov = post_.covariance(H, H);
     rep.ms.risk += msSince(t0);
 }
 
@@ -161,7 +162,8 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     }
     // The scan as the estimate adds it: nothing below the noise floor along a direction the
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
-    sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info);
+    sol.post = post_.update(in, params_.fusion, sol.scan_info,
+                            sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info);
     rep.cov = sol.post->cov;
     rep.cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
 }

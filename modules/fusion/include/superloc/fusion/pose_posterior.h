@@ -30,10 +30,19 @@
 
 namespace superloc::fusion {
 
+/// The std a map error of `map_sigma` [m], coherent over the scan's footprint, leaves in the
+/// rotation about each body axis [rad]: map_sigma / r_k, with r_k = sqrt(3 H(3+k,3+k) / tr H_tt)
+/// the scan's lever arm about axis k read off its information `H` (for point-to-plane residuals
+/// H_tt sums n n^T and H_rr (p x n)(p x n)^T, so r_k is the RMS torque arm about k). Zero where
+/// `H` holds no translation or no rotation about k (nothing to scale), or map_sigma is 0.
+Vec3d mapRotationFloor(const Mat6d& H, double map_sigma);
+
 class PosePosterior {
    public:
-    /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]).
-    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero()) : floor_(floor) {}
+    /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
+    /// map's coherent error, which raises the rotation's floor per frame (mapRotationFloor).
+    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0)
+        : floor_(floor), map_sigma_(map_sigma) {}
 
     struct Update {
         /// The current state's information after the frame (IMU: 15 x 15; without: pose only,
@@ -47,18 +56,25 @@ class PosePosterior {
 
     /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
     /// scale, or null), `in.prior` (odom_alt's prior at the information it is worth, or none),
-    /// and the scan's information above its noise floor `H`. Does not change the filter.
-    Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H) const;
+    /// and the scan's information above its noise floor `H`, of which the filter adds what
+    /// the estimate does (`H_added`, EstimateInformation::scanPart): `H` gives the floor's
+    /// lever arms. Does not change the filter.
+    Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H,
+                  const Mat6d& H_added) const;
     /// The frame is final: its information is the next frame's prior.
     void commit(const Update& u);
     /// Forget everything (a lost, diverged or relocalized frame).
     void reset();
     /// A pose's covariance from its information alone, floor included (unheld directions capped
-    /// at kMaxSigma).
-    Mat6d covariance(const Mat6d& info) const;
+    /// at kMaxSigma); the rotation's floor raised to what the map's coherent error leaves at the
+    /// lever arms of the scan information `H` (mapRotationFloor).
+    Mat6d covariance(const Mat6d& info, const Mat6d& H) const;
+    /// The std floor per body axis of a frame whose scan information is `H`.
+    Vec6d floor(const Mat6d& H) const;
 
    private:
     Vec6d floor_;
+    double map_sigma_ = 0.0;
     std::optional<StatePrior> prior_;  ///< with IMU: on the last committed state
     std::optional<std::pair<SE3d, Mat6d>> pose_prior_;  ///< without: T_map_imu and its information
 };

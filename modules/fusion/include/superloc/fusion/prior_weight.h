@@ -54,7 +54,11 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// The reported pose's covariance (fusion::PosePosterior, doc/method.md §4): a floor per axis
     /// for the errors all of a frame's residuals share (map, deskew, timing)
     double cov_floor_xyz = 0.01;    ///< [m]
-    double cov_floor_deg = 0.05;    ///< [deg]
+    double cov_floor_deg = 0.02;    ///< [deg]
+    /// [m] the prior map's error that is coherent over a scan's footprint (a warp, a mapping
+    /// run's misalignment): it turns the pose about body axis k by cov_map_xyz / r_k, r_k the
+    /// scan's lever arm about k (fusion::mapRotationFloor); 0: no such floor
+    double cov_map_xyz = 0.005;
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 
