@@ -110,7 +110,7 @@ const SplitData* kitti() {
 /// Settings of ini/localize-kitti.ini: the defaults and the data set's facts.
 LocalizerParams kittiParams(const std::string& method) {
     LocalizerParams p;
-    p.loc.method = method;
+    p.loc.method = localization::methodFromString(method);
     p.features.min_range = 2.0;
     p.features.deskew = false;
     return p;
@@ -119,7 +119,7 @@ LocalizerParams kittiParams(const std::string& method) {
 /// The default INI's settings with KITTI's sensor fact (deskew off) and the voxel association.
 LocalizerParams voxelParams() {
     LocalizerParams p;
-    p.loc.method = "icp";
+    p.loc.method = localization::Method::Icp;
     p.loc.association = "voxel";
     p.loc.rounds = 10;
     p.features.deskew = false;
@@ -196,7 +196,7 @@ void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti())
 /// The default settings with the data set's fact (the scans come undistorted: deskew off).
 LocalizerParams campusParams(bool motion_from_last_scan) {
     LocalizerParams p;
-    p.loc.method = "icp";
+    p.loc.method = localization::Method::Icp;
     p.loc.motion_from_last_scan = motion_from_last_scan;
     p.features.deskew = false;
     return p;

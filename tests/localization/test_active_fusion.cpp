@@ -4,6 +4,7 @@
 // unobservable). The risk scenes themselves (plane -> x y yaw, corridor -> x, room -> none) are in
 // tests/risk.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
 #include <superloc/fusion/frame_problem.h>
@@ -281,7 +282,7 @@ struct CorridorRun {
 CorridorRun runCorridor(const std::shared_ptr<map::PriorMap>& map, const std::string& method,
                         bool odom_alt, double gap_from = 1e9, double gap_to = 1e9) {
     localization::LocalizerParams p;
-    p.loc.method = method;
+    p.loc.method = localization::methodFromString(method);
     p.features.voxel_size = 0.3;
     localization::Localizer loc(p, map);
     loc.setMinLoggingLevel(mrpt::system::LVL_ERROR);
@@ -352,12 +353,14 @@ TEST(ActiveFusion, EveryMethodConstructsUnknownIsConfigError) {
     const auto map = corridorMap();
     for (const char* name : {"icp", "ndt", "superloc", "superloc_paper", "passive", "eigen_remap"}) {
         localization::LocalizerParams p;
-        p.loc.method = name;
+        p.loc.method = localization::methodFromString(name);
         EXPECT_NO_THROW(localization::Localizer(p, map)) << name;
     }
-    localization::LocalizerParams p;
-    p.loc.method = "active";
-    EXPECT_THROW(localization::Localizer(p, map), superloc::ConfigError);
+    // The name is parsed once, where the INI is read: an unknown one stops there.
+    mrpt::config::CConfigFileMemory c;
+    c.write("localization", "method", "active");
+    localization::LocalizationParams lp;
+    EXPECT_THROW(lp.loadFromConfigFile(c, "localization"), superloc::ConfigError);
 }
 
 TEST(ActiveFusion, WithoutOdomAltTheFlagsStayAndNoPriorIsUsed) {

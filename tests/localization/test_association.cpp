@@ -142,7 +142,7 @@ TEST(RunOutputs, CsvLineMatchesHeader) {
     FrameReport r;
     r.t = 12.5;
     r.degenerate_axes = "xyaw";
-    r.diverged_reason = "jump";
+    r.diverged_reason = Divergence::Jump;
     const std::string line = framesCsvLine(r, makePoseRPY(1, 2, 3, 0, 0, 0.5));
     const auto count = [](const std::string& s) { return std::count(s.begin(), s.end(), ','); };
     EXPECT_EQ(count(line), count(framesCsvHeader()));

@@ -28,10 +28,10 @@ TEST(Health, EachCheckAlone) {
     EXPECT_EQ(h.classify(r), Health::Ok);
     std::string why;
     r.diverged = true;
-    r.diverged_reason = "no_correspondences";
+    r.diverged_reason = Divergence::NoCorrespondences;
     EXPECT_EQ(h.classify(r, &why), Health::Lost);
     EXPECT_EQ(why, "no_correspondences");
-    r.diverged_reason = "jump_rejected";  // the IMU prediction was kept: degraded, not lost
+    r.diverged_reason = Divergence::JumpRejected;  // the IMU prediction was kept: degraded, not lost
     EXPECT_EQ(h.classify(r, &why), Health::Degraded);
     r = tracked(0.9);
     r.converged = false;

@@ -59,7 +59,7 @@ RunResult run(const RunOptions& o, std::vector<double>* errors = nullptr) {
         out.imu_frames += r.used_imu;
         out.deskewed += r.deskewed;
         out.frames++;
-        EXPECT_FALSE(r.diverged) << "frame " << k << ": " << r.diverged_reason;
+        EXPECT_FALSE(r.diverged) << "frame " << k << ": " << divergenceName(r.diverged_reason);
     }
     return out;
 }

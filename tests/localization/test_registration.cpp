@@ -85,7 +85,7 @@ TEST(Registration, ScanPairOutdoorRecoversRelativePose) {
     // relative.txt is not a 0.1 deg reference for a rigid fit of these raw scans.
     EXPECT_LT(dt, 0.03) << "translation error [m]";
     EXPECT_LT(dr, 0.6) << "rotation error [deg]";
-    EXPECT_FALSE(r.diverged) << r.diverged_reason;
+    EXPECT_FALSE(r.diverged) << divergenceName(r.diverged_reason);
     EXPECT_TRUE(r.converged);
     EXPECT_GT(r.corr_plane, 500u);
     const double ours = inlierFraction(second, *target, r.T_map_lidar);
@@ -100,7 +100,7 @@ TEST(Registration, NdtRecoversRelativePoseToo) {
     SUPERLOC_REQUIRE_DATA("scan-pair-outdoor/relative.txt");
     ScanPair pair;
     const SE3d& T_first_second = pair.T_first_second;
-    pair.params.loc.method = "ndt";
+    pair.params.loc.method = Method::Ndt;
     Localizer loc(pair.params, pair.target);
     loc.setInitialPose(SE3d::Identity());
     const FrameReport r = loc.process(asScan(pair.second));
@@ -123,14 +123,14 @@ TEST(Registration, SetMapSwapsTheMapBetweenFrames) {
     mp.voxel_size = 0;
     const auto far_map = std::make_shared<map::PriorMap>(far, mp);
     for (const std::string method : {"icp", "ndt"}) {
-        pair.params.loc.method = method;
+        pair.params.loc.method = methodFromString(method);
         Localizer loc(pair.params, far_map);
         loc.setMap(Localizer::prepareMap(pair.params, pair.target));
         loc.setInitialPose(SE3d::Identity());
         const FrameReport r = loc.process(asScan(pair.second));
         EXPECT_LT(translationDistance(r.T_map_lidar, pair.T_first_second), method == "icp" ? 0.03 : 0.1) << method;
         LocalizerParams other = pair.params;
-        other.loc.method = method == "icp" ? "ndt" : "icp";
+        other.loc.method = method == "icp" ? Method::Ndt : Method::Icp;
         EXPECT_THROW(loc.setMap(Localizer::prepareMap(other, pair.target)), ConfigError) << method;
         EXPECT_THROW(loc.setMap(std::make_shared<map::PriorMap>(PointCloud{}, mp)), ConfigError);
     }

@@ -257,7 +257,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     frame_out.observability = true;
 
     summary_ = RunSummary{};
-    summary_.method = loc_.loc.method;
+    summary_.method = localization::methodName(loc_.loc.method);
     summary_.map_points = prior->size();
     summary_.map_prepare_s = prior->prepareSeconds();
     summary_.map_points_max = prior->size();
@@ -361,7 +361,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     if (r.diverged != in_divergence)
                         MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,
                                           r.diverged ? "diverged" : "tracking again",
-                                          r.diverged_reason.c_str(), r.inlier_ratio);
+                                          localization::divergenceName(r.diverged_reason), r.inlier_ratio);
                     in_divergence = r.diverged;
                     if (on_frame) on_frame(r);
                     break;

@@ -65,7 +65,8 @@ std::string framesCsvLine(const localization::FrameReport& r, const SE3d& T) {
     add("%d", r.iterations);
     add("%d", r.converged ? 1 : 0);
     add("%d", r.diverged ? 1 : 0);
-    s += ',' + r.diverged_reason;
+    s += ',';
+    s += localization::divergenceName(r.diverged_reason);
     add("%d", r.used_imu ? 1 : 0);
     add("%d", r.deskewed ? 1 : 0);
     for (int k = 0; k < 6; ++k) add("%.6g", r.prior_weight[k]);

@@ -14,6 +14,19 @@
 
 namespace superloc::localization {
 
+const char* divergenceName(Divergence d) {
+    switch (d) {
+        case Divergence::None: return "";
+        case Divergence::Inliers: return "inliers";
+        case Divergence::Jump: return "jump";
+        case Divergence::JumpRejected: return "jump_rejected";
+        case Divergence::NoCorrespondences: return "no_correspondences";
+        case Divergence::Solver: return "solver";
+        case Divergence::NoPose: return "no_pose";
+    }
+    return "?";
+}
+
 const char* healthName(Health h) {
     switch (h) {
         case Health::Ok: return "ok";
@@ -96,7 +109,7 @@ HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
     HealthChecks c;
     // As health_reason says: a diverged frame is lost for that alone, a frame lost by its
     // inliers for those alone; only a frame that stands has its other checks made.
-    c.diverged = r.diverged && r.diverged_reason != "jump_rejected";
+    c.diverged = r.diverged && r.diverged_reason != Divergence::JumpRejected;
     if (c.diverged) return c;
     c.inliers_lost = ref > 0 && r.inlier_ratio < p_.lost_inlier_drop * ref;
     if (c.inliers_lost) return c;
@@ -121,13 +134,13 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
     const auto add = [&why](const std::string& s) { why += (why.empty() ? "" : "+") + s; };
     Health h = Health::Ok;
     if (c.diverged) {
-        add(r.diverged_reason.empty() ? "diverged" : r.diverged_reason);
+        add(r.diverged_reason == Divergence::None ? "diverged" : divergenceName(r.diverged_reason));
         h = Health::Lost;
     } else if (c.inliers_lost) {
         add("inliers");
         h = Health::Lost;
     } else {
-        if (c.jump_rejected) add(r.diverged_reason);
+        if (c.jump_rejected) add(divergenceName(r.diverged_reason));
         if (c.not_converged) add("not_converged");
         if (c.sigma_xyz) add("sigma_xyz");
         if (c.sigma_rot) add("sigma_rot");

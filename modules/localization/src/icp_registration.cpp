@@ -90,7 +90,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
                 continue;
             }
             rep.diverged = true;
-            rep.diverged_reason = "no_correspondences";
+            rep.diverged_reason = Divergence::NoCorrespondences;
             break;
         }
         // Step 5: joint solve (paper eq. 12) with IRLS weights at the association pose.
@@ -127,7 +127,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         rep.final_level = level;
         if (!sum.usable) {
             rep.diverged = true;
-            rep.diverged_reason = "solver";
+            rep.diverged_reason = Divergence::Solver;
             break;
         }
         if (fused) {  // the method's odom_alt fusion may amend the round's solution

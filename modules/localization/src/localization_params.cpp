@@ -30,7 +30,7 @@ const char* methodName(Method m) {
 }
 
 void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
-    method = c.read_string(s, "method", method);
+    method = methodFromString(c.read_string(s, "method", methodName(method)));
     MRPT_LOAD_CONFIG_VAR(use_imu, bool, c, s);
     output_frame = c.read_string(s, "output_frame", output_frame);
     MRPT_LOAD_CONFIG_VAR(association, string, c, s);
@@ -57,7 +57,8 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
 }
 
 void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
-    MRPT_SAVE_CONFIG_VAR_COMMENT(method, "icp | ndt | superloc | superloc_paper | passive | eigen_remap");
+    c.write(s, "method", std::string(methodName(method)), mrpt::config::MRPT_SAVE_NAME_PADDING(),
+            mrpt::config::MRPT_SAVE_VALUE_PADDING(), "icp | ndt | superloc | superloc_paper | passive | eigen_remap");
     MRPT_SAVE_CONFIG_VAR_COMMENT(use_imu, "IMU prediction + preintegration factor when available");
     MRPT_SAVE_CONFIG_VAR_COMMENT(output_frame, "reported poses: lidar (T_map_lidar) or body");
     MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");
@@ -84,7 +85,6 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
 }
 
 void LocalizationParams::validate() const {
-    methodFromString(method);
     if (output_frame != "lidar" && output_frame != "body")
         throw ConfigError("[localization] output_frame = '" + output_frame + "' (use lidar or body)");
     const auto positive = [](double v, const char* key) {

@@ -26,7 +26,7 @@ PreparedMap::~PreparedMap() = default;
 Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map)
     : mrpt::system::COutputLogger("Localizer"),
       params_(params),
-      method_(methodFromString(params.loc.method)),
+      method_(params.loc.method),
       variant_(makeMethodVariant(method_, params.fusion, params.risk)),
       health_(params.health),
       start_(params_.relocalization, params.features.max_range),
@@ -42,7 +42,7 @@ PreparedMap Localizer::prepareMap(const LocalizerParams& params, std::shared_ptr
     if (!map || map->size() == 0) throw ConfigError("Localizer: the prior map is empty");
     PreparedMap p;
     p.map = std::move(map);
-    if (makeMethodVariant(methodFromString(params.loc.method), params.fusion, params.risk).registration ==
+    if (makeMethodVariant(params.loc.method, params.fusion, params.risk).registration ==
         RegistrationKind::Ndt) {
         NdtParams np;
         np.resolution = params.loc.ndt_resolution;

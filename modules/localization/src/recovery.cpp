@@ -32,7 +32,7 @@ void Recovery::withoutPose(Frame& f, FrameSolution& sol, FrameReport& rep) {
     // tracks its candidates (doc/relocalization.md §4); a lost frame's candidates likewise.
     const auto& rp = params_.relocalization;
     rep.diverged = true;
-    rep.diverged_reason = "no_pose";
+    rep.diverged_reason = Divergence::NoPose;
     if (!candidates_.empty()) candidates_.refine(f, rep);
     const bool tracking = !candidates_.empty();
     RelocOutcome o = RelocOutcome::None;

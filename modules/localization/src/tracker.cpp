@@ -22,7 +22,7 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
       preproc_(params.features),
       icp_(params),
       ndt_(params, icp_.association()),
-      odom_link_(sensors, *variant.fusion, params_.fusion, methodFromString(params.loc.method), log),
+      odom_link_(sensors, *variant.fusion, params_.fusion, params.loc.method, log),
       post_([&] {
           Vec6d floor;
           floor << Vec3d::Constant(params.fusion.active.cov_floor_xyz),
@@ -238,7 +238,7 @@ bool Tracker::wantsSweepVelocity(const Prediction& pred) const {
 
 FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r) {
     r.diverged = false;
-    r.diverged_reason.clear();
+    r.diverged_reason = Divergence::None;
     r.converged = false;
     r.rounds = r.iterations = 0;
     FrameSolution sol;
@@ -301,10 +301,10 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
     rep.residual_rms = in.rms;
     if (jump) {
         rep.diverged = true;
-        rep.diverged_reason = rejected ? "jump_rejected" : "jump";
+        rep.diverged_reason = rejected ? Divergence::JumpRejected : Divergence::Jump;
     } else if (!rep.diverged && in.ratio < lp.min_inlier_ratio) {
         rep.diverged = true;
-        rep.diverged_reason = "inliers";
+        rep.diverged_reason = Divergence::Inliers;
     }
     if (!pred.used_imu && !rejected) {
         // Without IMU the velocity is the finite difference of the estimates. The first frame's

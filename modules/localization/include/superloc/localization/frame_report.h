@@ -93,7 +93,7 @@ struct FrameReport {
     double last_step_xyz = 0;     ///< [m] the last round's update (translation)
     double last_step_deg = 0;     ///< [deg] the last round's update (rotation)
     bool diverged = false;        ///< divergence detected (see reason)
-    std::string diverged_reason;  ///< "inliers", "jump", "no_correspondences", "solver", ...
+    Divergence diverged_reason = Divergence::None;  ///< why (None when not diverged)
     bool recovered = false;       ///< lost or in doubt, replaced by a verified relocalization
     bool used_imu = false;        ///< prediction and factor from IMU preintegration
     bool deskewed = false;

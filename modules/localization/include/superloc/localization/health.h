@@ -30,6 +30,20 @@ struct FrameReport;
 
 enum class Health { Ok, Degraded, Lost };
 
+/// Why a frame's registration was not taken (FrameReport::diverged_reason; frames.csv spells it
+/// with divergenceName).
+enum class Divergence {
+    None,
+    Inliers,            ///< inlier ratio below [localization] min_inlier_ratio
+    Jump,               ///< solved pose too far from the prediction (no IMU to fall back on)
+    JumpRejected,       ///< ... and the IMU prediction was kept instead (degraded, not lost)
+    NoCorrespondences,  ///< nothing to register against
+    Solver,             ///< the solver failed or gave a non-finite pose
+    NoPose,             ///< localized without a pose (relocalize(), or candidates tracked)
+};
+/// "", "inliers", "jump", "jump_rejected", "no_correspondences", "solver", "no_pose"
+const char* divergenceName(Divergence d);
+
 /// The checks behind a frame's health, one flag each (health_reason spells them out).
 struct HealthChecks {
     bool diverged = false;       ///< the registration failed (lost)

@@ -13,7 +13,9 @@ Method methodFromString(const std::string& s);  ///< throws ConfigError listing 
 const char* methodName(Method m);
 
 struct LocalizationParams : public mrpt::config::CLoadableOptions {
-    std::string method = "superloc";  ///< superloc | superloc_paper | icp | ndt | passive | eigen_remap
+    /// superloc | superloc_paper | icp | ndt | passive | eigen_remap (INI: its name; an unknown
+    /// one is a ConfigError at load)
+    Method method = Method::SuperLoc;
     bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 
