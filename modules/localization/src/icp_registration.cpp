@@ -29,7 +29,6 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
     fusion::FrameState no_prev;
     fusion::FrameState& prev = p.prev ? *p.prev : no_prev;
     const fusion::FrameState prev_saved = prev;
-    const Vec3d g_map(0, 0, -imu_.gravity);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
@@ -109,10 +108,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         in.prev = &prev;
         in.cur = &sol.state;
         in.scan = scan.correspondences().size() >= kMinCorrespondences ? &scan : nullptr;
-        in.imu = p.imu;
-        in.g_map = g_map;
-        in.acc_bias_rw = imu_.acc_bias_rw;
-        in.gyro_bias_rw = imu_.gyro_bias_rw;
+        in.setImu(p.imu, imu_);
         in.prior = prior;
         in.prev_prior = fused ? p.prev_prior : nullptr;
         // Only the last round's marginal is kept: ask for it on a round that can be the last

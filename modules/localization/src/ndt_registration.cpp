@@ -40,10 +40,7 @@ void NdtRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         fusion::FrameProblemInputs in;
         in.prev = p.prev;
         in.cur = &sol.state;
-        in.imu = p.imu;
-        in.g_map = Vec3d(0, 0, -imu_.gravity);
-        in.acc_bias_rw = imu_.acc_bias_rw;
-        in.gyro_bias_rw = imu_.gyro_bias_rw;
+        in.setImu(p.imu, imu_);
         in.cur_pose_prior = std::make_pair(T_ndt, w);
         in.prev_prior = p.prev_prior;
         in.marginalize = p.marginalize;

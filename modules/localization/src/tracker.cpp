@@ -128,8 +128,7 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) 
 }
 
 Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fusion::FrameState& cur,
-                                        const imu::Preintegration* imu, const LocalizerParams& params,
-                                        const Vec3d& g_map)
+                                        const imu::Preintegration* imu, const LocalizerParams& params)
     : pv(prev), c(cur) {
     // The IMU chain as it really errs (ActiveFusionParams::estimate_imu_scale), not as the
     // solver's inflated noise would have it.
@@ -137,10 +136,7 @@ Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fu
     if (imu) est_imu = imu->withNoiseScale(s);
     in.prev = &pv;
     in.cur = &c;
-    in.imu = est_imu ? &*est_imu : nullptr;
-    in.g_map = g_map;
-    in.acc_bias_rw = s * params.imu.acc_bias_rw;
-    in.gyro_bias_rw = s * params.imu.gyro_bias_rw;
+    in.setImu(est_imu ? &*est_imu : nullptr, params.imu, s);
 }
 
 void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
@@ -154,7 +150,7 @@ void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
 
 void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
     // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
-    EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_, g_map_);
+    EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_);
     fusion::FrameProblemInputs& in = w.in;
     if (sol.prior && !f.first) {
         in.prior = *sol.prior;
@@ -206,7 +202,7 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     // What the estimate knows without odom_alt, carried from the last frame through the IMU
     // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it.
     const auto t_est = Clock::now();
-    EstimateWindow w(f.prev, sol.state, imu, params_, g_map_);
+    EstimateWindow w(f.prev, sol.state, imu, params_);
     fusion::FrameProblemInputs& in = w.in;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);

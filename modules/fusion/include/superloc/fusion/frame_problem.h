@@ -8,6 +8,7 @@
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/fusion/state.h>
 #include <superloc/fusion/state_prior_factor.h>
+#include <superloc/imu/imu_params.h>
 #include <superloc/imu/preintegration.h>
 
 #include <optional>
@@ -42,6 +43,16 @@ struct FrameProblemInputs {
     const StatePrior* prev_prior = nullptr;
     /// With `imu`: compute SolveSummary::marginal after the solve.
     bool marginalize = false;
+
+    /// The IMU half, the same for every solve and the estimate: the preintegration between the
+    /// states (or null), gravity from `p` (the map is z-up) and its bias random walks times
+    /// `walk_scale` (the estimate's ActiveFusionParams::estimate_imu_scale; the solver's 1).
+    void setImu(const imu::Preintegration* pre, const imu::ImuParams& p, double walk_scale = 1.0) {
+        imu = pre;
+        g_map = Vec3d(0, 0, -p.gravity);
+        acc_bias_rw = walk_scale * p.acc_bias_rw;
+        gyro_bias_rw = walk_scale * p.gyro_bias_rw;
+    }
 };
 
 struct SolveSummary {

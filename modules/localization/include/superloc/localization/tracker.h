@@ -132,7 +132,7 @@ class Tracker {
     /// IMU chain at estimate_imu_scale of [imu]'s noise (`imu` null: none).
     struct EstimateWindow {
         EstimateWindow(const fusion::FrameState& prev, const fusion::FrameState& cur, const imu::Preintegration* imu,
-                       const LocalizerParams& params, const Vec3d& g_map);
+                       const LocalizerParams& params);
         EstimateWindow(const EstimateWindow&) = delete;
         EstimateWindow& operator=(const EstimateWindow&) = delete;
         fusion::FrameState pv, c;
