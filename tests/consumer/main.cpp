@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
         map_params.voxel_size = 0.1;
         const superloc::map::PriorMap map(cloud, map_params);
 
-        std::printf("method=%s rounds=%d\n", params.method.c_str(), params.rounds);
+        std::printf("method=%s rounds=%d\n", superloc::localization::methodName(params.method), params.rounds);
         std::printf("PriorMap: %zu points from %zu\n", map.size(), cloud.points.size());
         return map.size() > 0 && map.size() < cloud.points.size() ? 0 : 1;
     } catch (const std::exception& e) {
