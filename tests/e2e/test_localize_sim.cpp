@@ -87,8 +87,9 @@ TEST(LocalizeSim, FeaturelessCorridorSuperlocHoldsWhereIcpDrifts) {
     EXPECT_LT(std::sqrt(sq_deg / n_deg), 0.25) << "superloc attitude error RMS [deg] without IMU";
     // ... and the covariance says so: the attitude's squared error over the trace of its
     // covariance, averaged (1 when consistent). The sweep's departure from odom_alt's constant
-    // twist is in it (Tracker::sweepSigma): measured 0.54 here; ~3 without that term (a 0.15 deg
-    // error against the 0.05 deg floor per axis), ~30 with the old deskew (0.48 deg).
+    // twist is in it (Tracker::sweepSigma): measured 0.43 here (0.54 with the fixed 0.05 deg floor
+    // before the map's lever-arm floor, doc/method.md §4); ~3 without that term (a 0.15 deg error
+    // against a 0.05 deg floor per axis), ~30 with the old deskew (0.48 deg).
     double ratio = 0;
     size_t n_ratio = 0;
     for (size_t i = 0; i < sl_lo.frames.size() && i < sl_lo.err_deg.size(); ++i) {

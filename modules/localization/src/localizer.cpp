@@ -26,8 +26,7 @@ PreparedMap::~PreparedMap() = default;
 Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::PriorMap> map)
     : mrpt::system::COutputLogger("Localizer"),
       params_(params),
-      method_(params.loc.method),
-      variant_(makeMethodVariant(method_, params.fusion, params.risk)),
+      variant_(makeMethodVariant(params.loc.method, params.fusion, params.risk)),
       health_(params.health),
       start_(params_.relocalization, params.features.max_range),
       tracker_(params_, variant_, sensors_, *this),

@@ -86,12 +86,11 @@ class Localizer : public mrpt::system::COutputLogger {
     FrameReport process(const Scan& scan, FrameOutputs* out = nullptr);
 
     const LocalizerParams& params() const { return params_; }
-    Method method() const { return method_; }
+    Method method() const { return params_.loc.method; }
 
    private:
     LocalizerParams params_;
-    Method method_;
-    MethodVariant variant_;  ///< registration + odom_alt fusion policy of method_
+    MethodVariant variant_;  ///< registration + odom_alt fusion policy of params_.loc.method
     SensorHistory sensors_;
     HealthMonitor health_;
     StartPose start_;
