@@ -81,12 +81,25 @@ double OdomCalibration::shrinkAt(const Axis& a, double D) const {
     // The blocks of length H measure the correction over 0..H metres after a check; a frame at D
     // metres since the check is nearest to the middle of a block of 2 D.
     double k = 1.0;
+    int longest = -1;
     for (size_t h = 0; h < a.blocks.size(); ++h) {
         if (a.cnt[h] < p_.min_blocks - 1e-9) continue;
         k = a.shrink[h];
-        if (p_.horizons[h] >= 2.0 * D) break;
+        longest = int(h);
+        if (p_.horizons[h] >= 2.0 * D) return k;
     }
-    return k;
+    if (longest < 0 || !a.worth || !(a.cc[longest] > 0) || !(a.len[longest] > 0)) return k;
+    // Beyond the longest block measured nothing says the correction still holds. What the blocks
+    // do say is how large an error that keeps its sign over them the correction leaves (wb, per
+    // metre squared) against the correction's own size over the same blocks (c^2): a fitted
+    // correction is the fixed error plus the mean of whatever wandered while it was fitted, and
+    // the share of it that is the fixed part is c^2 / (c^2 + wb) (a Wiener / James-Stein shrink,
+    // the wander's variance taken as the fit's error). Far beyond the longest block the share
+    // tends to that; between, it falls as H / 2D (the measured share over the first H / 2).
+    const double H = a.len[longest] / a.cnt[longest];
+    const double c2 = a.cc[longest] / a.cnt[longest];  // the correction over a block of H, squared
+    const double k_far = c2 / (c2 + a.wb * H * H);
+    return k_far + (k - k_far) * H / (2.0 * D);
 }
 
 std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, const std::array<bool, 6>& held) {

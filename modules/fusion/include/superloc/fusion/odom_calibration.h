@@ -30,8 +30,10 @@
 // blocks, clamped to [0, 1], with one pseudo-block where the correction was right). A fixed
 // error keeps k ~ 1; a correction learned from an error that has since wandered (a fit restarted
 // on a recent stretch) is applied only in part, at D metres since the check the share of the
-// blocks of 2 D (the longest measured beyond that), and V(D) is fitted to what the shrunk
-// correction left.
+// blocks of 2 D, and V(D) is fitted to what the shrunk correction left. Beyond the longest block
+// measured the share falls as H / 2D towards c^2 / (c^2 + wb): the fitted correction c is the
+// fixed error plus the mean of what wandered while it was fitted, and wb (the error the blocks
+// show keeping its sign) says how large that wandering part is.
 #pragma once
 
 #include <superloc/core/types.h>
