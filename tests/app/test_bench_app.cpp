@@ -226,3 +226,31 @@ TEST(BenchApp, BadJobsAreRejectedNamingTheFlag) {
     EXPECT_EQ(by_default.jobs, 0u);  // one per core
     EXPECT_GE(availableCores(), 1u);
 }
+
+// Two sequences that differ only in their localize settings share one simulation; --drop-data
+// removes the shared data once the last of them is done, not when the first is.
+TEST(BenchApp, SequencesOfTheSameDataSimulateItOnceAndDropItAfterTheLast) {
+    const std::string d = superloc::testing::freshDir("bench_share");
+    const std::string tools = d + "/tools";
+    fs::create_directories(tools);
+    writeScript(tools + "/superloc-sim", std::string(kParse) + "echo sim >> \"" + d + "/sims\"\n" + kSim);
+    writeScript(tools + "/superloc-localize", std::string(kParse) + kLocalize);
+    writeSimSuite(d, "[suite]\nmethods = good lift\nsequences = plane plane_noimu\n"
+                     "localize_config = localize.ini\ntimeout = 60\n"
+                     "[seq.plane]\ntype = sim\nconfig = world.ini\nseed = 3\n"
+                     "[seq.plane_noimu]\ntype = sim\nconfig = world.ini\nseed = 3\n"
+                     "localize_set = localization.use_imu=false\n");
+    BenchApp app;
+    app.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--jobs", "2", "--drop-data"});
+    std::ostringstream log;
+    EXPECT_EQ(app.run(log), 0) << log.str();
+    ASSERT_EQ(app.runs.size(), 4u);
+    for (const auto& r : app.runs) {
+        EXPECT_EQ(r.status, "ok") << r.sequence << "/" << r.method;
+        ASSERT_TRUE(r.result) << r.sequence << "/" << r.method;
+    }
+    EXPECT_NEAR(app.runs[3].result->ate.trans.rmse, 0.2, 1e-9);  // plane_noimu / lift
+    EXPECT_EQ(slurp(d + "/sims"), "sim\n");
+    EXPECT_FALSE(fs::exists(d + "/out/data/plane/sequence.rawlog"));
+    EXPECT_FALSE(fs::exists(d + "/out/data/plane_noimu"));
+}

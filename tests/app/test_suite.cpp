@@ -36,6 +36,25 @@ std::string suiteDir(const std::string& name) {
 }
 }  // namespace
 
+// Sequences that differ only in their localize settings (the stress sweeps' with / without IMU)
+// share one simulation: the same data folder; another sim_set or seed is other data.
+TEST(Suite, SequencesSimulatingTheSameDataShareIt) {
+    const std::string d = suiteDir("suite_share");
+    const std::string path = write(
+        d + "/s.ini",
+        "[suite]\nmethods = superloc\nsequences = a a_noimu b\nlocalize_config = localize.ini\n"
+        "[seq.a]\ntype = sim\nconfig = world.ini\nseeds = 1 2\nsim_set = sim.duration=5\n"
+        "[seq.a_noimu]\ntype = sim\nconfig = world.ini\nseeds = 1 2\nsim_set = sim.duration=5\n"
+        "localize_set = localization.use_imu=false\n"
+        "[seq.b]\ntype = sim\nconfig = world.ini\nseeds = 1\nsim_set = sim.duration=6\n");
+    const SuiteSpec s = loadSuite(path, d + "/data");
+    ASSERT_EQ(s.sequences.size(), 5u);
+    EXPECT_EQ(sequenceFiles(s.sequences[2], "/o").dir, "/o/data/a_s1");  // a_noimu_s1
+    EXPECT_EQ(sequenceFiles(s.sequences[3], "/o").dir, "/o/data/a_s2");  // a_noimu_s2
+    EXPECT_EQ(sequenceFiles(s.sequences[1], "/o").dir, "/o/data/a_s2");
+    EXPECT_EQ(sequenceFiles(s.sequences[4], "/o").dir, "/o/data/b_s1");
+}
+
 TEST(Suite, LoadsSequencesAndBuildsCommands) {
     const std::string d = suiteDir("suite_load");
     const std::string path = write(

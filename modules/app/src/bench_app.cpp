@@ -586,7 +586,11 @@ int BenchApp::execute(std::ostream& log, bool collect_only) {
     const size_t n_meth = suite.methods.size();
     std::vector<Sequence> seqs(suite.sequences.size());
     for (auto& q : seqs) q.runs.resize(n_meth), q.plots.resize(n_meth);
-    std::mutex results_mutex;  // guards seqs[*].runs/plots/f1_plots/finished, runs, plots
+    std::mutex results_mutex;  // guards seqs[*].runs/plots/f1_plots/finished, runs, plots, sharing
+    // Per data folder, the sequences that have not finished yet (sequences that simulate the same
+    // data share it): --drop-data removes it when the last of them is done.
+    std::map<std::string, size_t> sharing;
+    for (const auto& q : suite.sequences) ++sharing[sequenceFiles(q, out_dir).dir];
     // With results_mutex held: runs and plots from the records so far, then the result files.
     const auto publish = [&] {
         runs.clear();
@@ -611,7 +615,7 @@ int BenchApp::execute(std::ostream& log, bool collect_only) {
             if (const auto& r = seqs[i].runs[k]; r && r->result)
                 rp.emplace_back(r->method, r->result->rp), rr.emplace_back(r->method, r->result->rr);
         const std::string& name = suite.sequences[i].name;
-        if (drop_data) {
+        if (drop_data && --sharing[sequenceFiles(suite.sequences[i], out_dir).dir] == 0) {
             std::error_code ec;
             unmarkDataComplete(seqs[i].files);
             for (const auto* f : {&seqs[i].files.rawlog, &seqs[i].files.gt_map, &seqs[i].files.prior_map})

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -164,12 +165,22 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
             s.sequences.push_back(one);
         }
     }
+    // Sequences that simulate the same data (the same world with other localize settings, e.g.
+    // with and without IMU) share one simulation.
+    std::map<std::string, std::string> simulated;
+    for (auto& q : s.sequences) {
+        q.data_name = q.name;
+        if (q.kind != SequenceSpec::Kind::Sim) continue;
+        std::string key = q.config + '\n' + std::to_string(q.seed);
+        for (const auto& w : q.sim_sets) key += '\n' + w;
+        q.data_name = simulated.emplace(key, q.name).first->second;
+    }
     return s;
 }
 
 SequenceFiles sequenceFiles(const SequenceSpec& seq, const std::string& out_dir) {
     SequenceFiles f;
-    const fs::path d = fs::path(out_dir) / "data" / seq.name;
+    const fs::path d = fs::path(out_dir) / "data" / (seq.data_name.empty() ? seq.name : seq.data_name);
     f.dir = d.string();
     f.rawlog = (d / "sequence.rawlog").string();
     if (seq.kind == SequenceSpec::Kind::Sim) {
