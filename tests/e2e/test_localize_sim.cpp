@@ -60,8 +60,9 @@ TEST(LocalizeSim, OfficeWithImuTracksGroundTruth) {
 //   every flagged frame, gave 0.037 m).
 // - Without IMU (LiDAR + a second odometry) icp's x is dragged by the scan's spurious x
 //   information at constant velocity and drifts by metres; superloc predicts with the
-//   calibrated odom_alt and fuses it along x. Measured: icp 5.83 m, superloc 0.099 m (seeds 1-6
-//   of this corridor: 0.075-0.33 m, mean 0.16 m; the paper's weighting: 0.48 m). Its attitude
+//   calibrated odom_alt and fuses it along x. Measured: icp 5.83 m, superloc 0.108 m (seeds 1-6
+//   of this corridor: 0.073-0.30 m, mean 0.16 m; passive 0.26-0.56 m; the paper's weighting:
+//   0.48 m). Its attitude
 //   error 0.15 deg RMS: the sweep is deskewed with odom_alt's own rotation rate; deskewed with
 //   the calibrated rate, the calibration's rotation scale and the deskew fed each other and the
 //   0.3 deg pitch sway of the sensor became a 0.35-0.48 deg RMS error (seeds 1-6), growing along
