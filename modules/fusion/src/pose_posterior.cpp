@@ -40,29 +40,32 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
     return f;
 }
 
-Vec6d PosePosterior::floor(const Mat6d& H) const {
+Vec6d PosePosterior::floor(const Mat6d& H, bool imu_deskewed) const {
     Vec6d f = floor_;
+    if (imu_deskewed && floor_xyz_imu_ >= 0) f.head<3>().setConstant(floor_xyz_imu_);
     f.tail<3>() = f.tail<3>().cwiseMax(mapRotationFloor(H, map_sigma_));
     return f;
 }
 
-Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H) const {
+Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed) const {
     Mat6d C = cappedCovariance(info);
-    C.diagonal() += floor(H).cwiseAbs2();
+    C.diagonal() += floor(H, imu_deskewed).cwiseAbs2();
     return 0.5 * (C + C.transpose());
 }
 
 PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
-                                            const Mat6d& H, const Mat6d& H_added) const {
+                                            const Mat6d& H, const Mat6d& H_added, bool imu_deskewed) const {
     Update u;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
-    Mat6d pose_info = H_added;
+    Mat6d pose_info = H_added, pose_info_without_scan = Mat6d::Zero();
     if (in.imu && in.imu->dt() > 0) {
         FrameProblemInputs p = in;
         p.prev_prior = prior_ ? &*prior_ : nullptr;
         if (const auto carried = imuWindowStateInformation(p, params)) {
             u.with_imu = true;
+            u.info_without_scan = *carried;
+            if (const auto I = poseInformation(*carried)) pose_info_without_scan = *I;
             u.info = *carried;
             u.info.topLeftCorner<6, 6>() += H_added;
             if (const auto I = poseInformation(u.info)) pose_info = *I;
@@ -78,11 +81,15 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
             const Mat6d Apc = Jp.transpose() * W;
             Mat6d carried = W - Apc.transpose() * ldlt.solve(Apc);
             carried = 0.5 * (carried + carried.transpose());
-            if (carried.allFinite()) pose_info += carried;
+            if (carried.allFinite()) pose_info += carried, pose_info_without_scan = carried;
         }
     }
-    if (!u.with_imu) u.info.topLeftCorner<6, 6>() = pose_info;
-    u.cov = covariance(pose_info, H);
+    if (!u.with_imu) {
+        u.info.topLeftCorner<6, 6>() = pose_info;
+        u.info_without_scan.topLeftCorner<6, 6>() = pose_info_without_scan;
+    }
+    u.cov = covariance(pose_info, H, imu_deskewed);
+    u.cov_without_scan = covariance(pose_info_without_scan, H, imu_deskewed);
     return u;
 }
 

@@ -126,6 +126,12 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     if (f.first && !requested && start_.given() && search_ && rep.health != Health::Lost)
         recovery_.checkStart(f, *start_.given(), sol, rep);
     recovery_.recoverIfLost(f, !requested, sol, rep);
+    // A frame whose own registration is in doubt (not converged, or fitting clearly worse than
+    // this map gives) reports, and carries, what it knew without its scan (doc/method.md §4).
+    if (sol.post && !rep.recovered && rep.checks.inDoubt()) {
+        sol.post->dropScan();
+        rep.cov = sol.post->cov;
+    }
     // What the next frame starts from.
     const fusion::FrameState state = recovery_.endFrame(f, sol.state, rep);
     tracker_.end(f, state, sol, rep, requested, recovery_.pending());

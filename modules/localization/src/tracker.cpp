@@ -28,7 +28,7 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
           floor << Vec3d::Constant(params.fusion.active.cov_floor_xyz),
               Vec3d::Constant(params.fusion.active.cov_floor_deg * kDeg);
           return floor;
-      }(), params.fusion.active.cov_map_xyz) {}
+      }(), params.fusion.active.cov_map_xyz, params.fusion.active.cov_floor_imu_xyz) {}
 
 void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt) {
     map_ = std::move(map);
@@ -159,9 +159,12 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     // The scan as the estimate adds it: nothing below the noise floor along a direction the
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
     sol.post = post_.update(in, params_.fusion, sol.scan_info,
-                            sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info);
+                            sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
+                            f.pred.twist_from_imu && !f.features.motion.empty());
+    const Vec6d sweep = sweepSigma(f, sol.state).cwiseAbs2();
+    sol.post->cov.diagonal() += sweep;
+    sol.post->cov_without_scan.diagonal() += sweep;
     rep.cov = sol.post->cov;
-    rep.cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
 }
 
 Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur) const {

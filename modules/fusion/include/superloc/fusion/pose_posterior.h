@@ -40,9 +40,11 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma);
 class PosePosterior {
    public:
     /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
-    /// map's coherent error, which raises the rotation's floor per frame (mapRotationFloor).
-    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0)
-        : floor_(floor), map_sigma_(map_sigma) {}
+    /// map's coherent error, which raises the rotation's floor per frame (mapRotationFloor);
+    /// `floor_xyz_imu` [m]: the position's floor of a frame whose sweep was deskewed along the
+    /// IMU's trajectory (no deskew or timing error left to share; negative: `floor`'s).
+    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0, double floor_xyz_imu = -1.0)
+        : floor_(floor), map_sigma_(map_sigma), floor_xyz_imu_(floor_xyz_imu) {}
 
     struct Update {
         /// The current state's information after the frame (IMU: 15 x 15; without: pose only,
@@ -52,6 +54,19 @@ class PosePosterior {
         SE3d T_ref = SE3d::Identity();
         Vec9d sb_ref = Vec9d::Zero();
         Mat6d cov = Mat6d::Identity();  ///< the pose's covariance, floor included
+        /// The same without the frame's scan (the carried information alone): what the frame
+        /// knows when its registration is in doubt (not converged, or fitting clearly worse than
+        /// this map gives): the scan's information is then taken at associations that may be
+        /// wrong (a corridor's end wall coming into view 5 m from where the drifted pose puts
+        /// it: 1 cm claimed, 5.4 m off).
+        Mat15d info_without_scan = Mat15d::Zero();
+        Mat6d cov_without_scan = Mat6d::Identity();
+        /// The frame's registration is in doubt: its scan is dropped, from the reported
+        /// covariance and from what is carried to the next frame.
+        void dropScan() {
+            info = info_without_scan;
+            cov = cov_without_scan;
+        }
     };
 
     /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
@@ -59,8 +74,10 @@ class PosePosterior {
     /// and the scan's information above its noise floor `H`, of which the filter adds what
     /// the estimate does (`H_added`, EstimateInformation::scanPart): `H` gives the floor's
     /// lever arms. Does not change the filter.
+    /// `imu_deskewed`: the frame's sweep was deskewed along the IMU (the position's floor is
+    /// then floor_xyz_imu).
     Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H,
-                  const Mat6d& H_added) const;
+                  const Mat6d& H_added, bool imu_deskewed = false) const;
     /// The frame is final: its information is the next frame's prior.
     void commit(const Update& u);
     /// Forget everything (a lost, diverged or relocalized frame).
@@ -68,13 +85,14 @@ class PosePosterior {
     /// A pose's covariance from its information alone, floor included (unheld directions capped
     /// at kMaxSigma); the rotation's floor raised to what the map's coherent error leaves at the
     /// lever arms of the scan information `H` (mapRotationFloor).
-    Mat6d covariance(const Mat6d& info, const Mat6d& H) const;
+    Mat6d covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed = false) const;
     /// The std floor per body axis of a frame whose scan information is `H`.
-    Vec6d floor(const Mat6d& H) const;
+    Vec6d floor(const Mat6d& H, bool imu_deskewed = false) const;
 
    private:
     Vec6d floor_;
     double map_sigma_ = 0.0;
+    double floor_xyz_imu_ = -1.0;
     std::optional<StatePrior> prior_;  ///< with IMU: on the last committed state
     std::optional<std::pair<SE3d, Mat6d>> pose_prior_;  ///< without: T_map_imu and its information
 };

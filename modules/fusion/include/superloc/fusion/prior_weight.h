@@ -55,6 +55,9 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// for the errors all of a frame's residuals share (map, deskew, timing)
     double cov_floor_xyz = 0.01;    ///< [m]
     double cov_floor_deg = 0.02;    ///< [deg]
+    /// [m] the position's floor where the sweep was deskewed along the IMU's trajectory: no
+    /// deskew or timing error left for every residual to share, the map's remains
+    double cov_floor_imu_xyz = 0.007;
     /// [m] the prior map's error that is coherent over a scan's footprint (a warp, a mapping
     /// run's misalignment): it turns the pose about body axis k by cov_map_xyz / r_k, r_k the
     /// scan's lever arm about k (fusion::mapRotationFloor); 0: no such floor
