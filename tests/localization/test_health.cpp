@@ -90,6 +90,7 @@ TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
         FrameReport t = tracked(v);
         h.assess(t);
         EXPECT_EQ(t.health, Health::Ok);
+        h.commit(t, false);
     }
     EXPECT_NEAR(h.reference(), 0.91, 1e-9);  // median of 0.88 0.9 0.91 0.92 (upper middle)
     std::string why;
@@ -101,6 +102,11 @@ TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
     FrameReport low = tracked(0.7);
     h.assess(low);
     EXPECT_EQ(low.health, Health::Degraded);
+    h.commit(low, false);
+    EXPECT_NEAR(h.reference(), 0.91, 1e-9);
+    // Assessing changes nothing of the monitor: only commit() does, once per frame.
+    FrameReport again = tracked(0.95);
+    for (int k = 0; k < 5; ++k) h.assess(again);
     EXPECT_NEAR(h.reference(), 0.91, 1e-9);
 }
 
@@ -199,7 +205,7 @@ TEST(Health, DriftAlongTheChainOfImuPredictedFrames) {
         } else if (k == 30) {
             EXPECT_NEAR(r.imu_drift_deg, 3.0, 0.2);
         }
-        h.recordFrame(r, r.used_imu);
+        h.commit(r, r.used_imu);
         prev = r.T_map_lidar;
         last = r.imu_drift_deg;
     }
@@ -210,7 +216,7 @@ TEST(Health, DriftAlongTheChainOfImuPredictedFrames) {
     r.used_imu = true;
     r.T_map_lidar_pred = prev * rot(1, 0);
     r.T_map_lidar = rot(31, 0);
-    h.recordFrame(r, false);
+    h.commit(r, false);
     FrameReport next = r;
     next.t = 3.2;
     next.T_map_lidar_pred = r.T_map_lidar * rot(1, 0);

@@ -154,19 +154,12 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
     return h;
 }
 
-void HealthMonitor::assess(FrameReport& r) {
+void HealthMonitor::assess(FrameReport& r) const {
     r.inlier_reference = reference();
     r.health = classify(r, &r.health_reason, &r.checks);
-    // Tracked: the fit itself is sound (weak axes aside, which say nothing about this map's
-    // inlier ratio when tracking is right).
-    const HealthChecks& c = r.checks;
-    if (!r.diverged && !c.not_converged && !c.badFit() && !c.prediction && !c.drift) {
-        tracked_.push_back(r.inlier_ratio);
-        while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
-    }
 }
 
-void HealthMonitor::assessFrame(FrameReport& rep) {
+void HealthMonitor::assessFrame(FrameReport& rep) const {
     rep.pred_dxyz = translationDistance(rep.T_map_lidar, rep.T_map_lidar_pred);
     rep.pred_ddeg = rotationAngle(rep.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
     assess(rep);
@@ -215,7 +208,14 @@ double HealthMonitor::imuDrift(const FrameReport& rep) const {
     return spanned ? drift : 0.0;
 }
 
-void HealthMonitor::recordFrame(const FrameReport& rep, bool chained) {
+void HealthMonitor::commit(const FrameReport& rep, bool chained) {
+    // The reference: a frame whose fit itself is sound (weak axes aside, which say nothing about
+    // this map's inlier ratio when tracking is right), once.
+    const HealthChecks& c = rep.checks;
+    if (!rep.diverged && !c.not_converged && !c.badFit() && !c.prediction && !c.drift) {
+        tracked_.push_back(rep.inlier_ratio);
+        while (tracked_.size() > static_cast<size_t>(p_.reference_frames)) tracked_.pop_front();
+    }
     const bool stands = rep.health != Health::Lost && !rep.diverged;
     if (!chained || !stands || drift_chain_.empty()) drift_chain_.clear();
     if (!stands) return;

@@ -30,7 +30,12 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       health_(params.health),
       start_(params_.relocalization, params.features.max_range),
       tracker_(params_, variant_, sensors_, *this),
-      recovery_(params_, tracker_, health_, sensors_, *this),
+      recovery_(
+          params_,
+          [this](Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r) {
+              return tracker_.solveFrom(f, start, as, r);
+          },
+          health_, sensors_, *this),
       outputs_(params.risk) {
     setMap(std::move(map));
 }
@@ -132,9 +137,14 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
         sol.post->dropScan();
         rep.cov = sol.post->cov;
     }
-    // What the next frame starts from.
-    const fusion::FrameState state = recovery_.endFrame(f, sol.state, rep);
-    tracker_.end(f, state, sol, rep, requested, recovery_.pending());
+    // The frame is final. The health monitor commits it once (the reference, and the drift
+    // check's chain, which goes on through frames the IMU predicted from the one before and
+    // their own registration solved); the next frame starts from what the Recovery decided.
+    const bool chained = f.pred.used_imu && !rep.recovered && !recovery_.restart();
+    const Recovery::NextFrame next = recovery_.endFrame(f, sol.state, rep);
+    health_.commit(rep, chained);
+    tracker_.setRestart(next.restart);
+    tracker_.end(f, next.state, sol, rep, requested, recovery_.pending());
     sensors_.forgetBefore(scan.t);
     rep.ms.total = msSince(t_start);
     rep.ms.total_cpu = threadCpuMs() - cpu_start;

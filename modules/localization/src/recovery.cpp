@@ -10,14 +10,13 @@
 
 namespace superloc::localization {
 
-Recovery::Recovery(const LocalizerParams& params, Tracker& tracker, HealthMonitor& health,
+Recovery::Recovery(const LocalizerParams& params, SolveFn solve, const HealthMonitor& health,
                    const SensorHistory& sensors, const mrpt::system::COutputLogger& log)
     : params_(params),
-      tracker_(tracker),
       health_(health),
       sensors_(sensors),
       log_(log),
-      verifier_(tracker, health, params_.relocalization),
+      verifier_(std::move(solve), health, params_.relocalization),
       candidates_(params, verifier_, sensors, log) {}
 
 void Recovery::relocalize(const std::optional<reloc::SearchRegion>& region) {
@@ -49,7 +48,7 @@ void Recovery::withoutPose(Frame& f, FrameSolution& sol, FrameReport& rep) {
     if (tracking && o != RelocOutcome::Accepted) {
         o = candidates_.decide(f, sol, rep);
         // The next frame starts coarse, as after any relocalization of a lost frame.
-        if (o == RelocOutcome::Accepted) tracker_.setRestart(true);
+        if (o == RelocOutcome::Accepted) restart_ = true;
     }
     if (o == RelocOutcome::Accepted) pending_ = false, doubt_ = false, candidates_.clear();
 }
@@ -96,10 +95,7 @@ void Recovery::recoverIfLost(Frame& f, bool may_search, FrameSolution& sol, Fram
     }
 }
 
-fusion::FrameState Recovery::endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep) {
-    // The drift check's chain goes on through frames the IMU predicted from the one before,
-    // solved by the frame's own registration.
-    health_.recordFrame(rep, f.pred.used_imu && !rep.recovered && !tracker_.restarting());
+Recovery::NextFrame Recovery::endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep) {
     prev_verified_ = rep.health == Health::Ok || rep.recovered;
     if (rep.health == Health::Ok)
         imu_chain_ = true;
@@ -116,9 +112,11 @@ fusion::FrameState Recovery::endFrame(const Frame& f, const fusion::FrameState& 
         next = last_good_->state;
         next.t = f.scan->t;
         next.setVelocity(Vec3d::Zero());
-        tracker_.setRestart(true);
+        restart_ = true;
     }
-    return next;
+    const NextFrame out{next, restart_};
+    restart_ = false;  // the next frame decides its own
+    return out;
 }
 
 void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, RelocReport& rr, FrameSolution& sol,
@@ -147,7 +145,7 @@ void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, R
     const bool lost_before = own.rep.diverged || own.rep.health == Health::Lost;
     const bool corrected_far = translationDistance(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_xyz ||
                                rotationAngle(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_deg * kDeg;
-    tracker_.setRestart(lost_before || (corrected_far && (f.pred.used_imu || !prev_verified_)));
+    restart_ = lost_before || (corrected_far && (f.pred.used_imu || !prev_verified_));
     log_.logFmt(mrpt::system::LVL_INFO,
                 "frame %zu (t=%.3f): relocalized (%s search %.0f ms, %d of %d hypotheses verified in %.0f ms), "
                 "inlier ratio %.2f",
@@ -201,6 +199,6 @@ std::optional<reloc::SearchRegion> Recovery::lostRegion(double t, int lost_run) 
     return region;
 }
 
-void Recovery::assess(FrameReport& rep) { health_.assessFrame(rep); }
+void Recovery::assess(FrameReport& rep) const { health_.assessFrame(rep); }
 
 }  // namespace superloc::localization

@@ -79,7 +79,7 @@ void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameRep
             // and the next frame starts with its velocity unknown.
             sol = best.sol;
             rep = best.rep;
-            tracker_.setRestart(true);
+            restart_ = true;
         }
         report(ms, rr, rep);
         // Another result within the start's uncertainty fits about as well: the pose is kept,

@@ -6,7 +6,7 @@ namespace superloc::localization {
 Attempt Verifier::verify(Frame& f, const fusion::FrameState& start, const FrameReport& base, VerifyAs as) const {
     Attempt a;
     a.rep = base;
-    a.sol = tracker_.solveFrom(f, start, as, a.rep);
+    a.sol = solve_(f, start, as, a.rep);
     a.health = health_.classify(a.rep, &a.why, &a.checks);
     return a;
 }

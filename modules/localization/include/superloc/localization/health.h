@@ -114,13 +114,13 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
 class HealthMonitor {
    public:
     explicit HealthMonitor(const HealthParams& p = {}) : p_(p) {}
-    /// Sets rep.health, rep.health_reason and rep.inlier_reference from the report's fields
-    /// (diverged, converged, gamma, inlier_ratio, pred_dxyz/pred_ddeg, used_imu) and updates
-    /// the reference.
-    void assess(FrameReport& rep);
+    /// Sets rep.health, rep.health_reason, rep.checks and rep.inlier_reference from the report's
+    /// fields (diverged, converged, gamma, inlier_ratio, pred_dxyz/pred_ddeg, used_imu, cov)
+    /// against the run's reference as it stands; the reference is not touched (commit()).
+    void assess(FrameReport& rep) const;
     /// assess() after measuring the solved pose against the predicted one (pred_dxyz, pred_ddeg):
     /// what a frame gets when its solve is done, and again when a relocalization replaced it.
-    void assessFrame(FrameReport& rep);
+    void assessFrame(FrameReport& rep) const;
     /// What the evidence makes of a frame already assessed: NoPose lost; Unconfirmed an `ok`
     /// frame degraded ("unconfirmed"), Confirmed back to `ok`; StartAmbiguous an `ok` frame
     /// degraded ("start_ambiguous").
@@ -137,10 +137,12 @@ class HealthMonitor {
     /// rotation against the one the gyro carries along the chain of recorded frames over the
     /// last drift_window; 0 when the chain does not span half of it or the frame has no IMU.
     double imuDrift(const FrameReport& rep) const;
-    /// After a frame's final pose: extends the chain with it when `chained` (the IMU predicted it
-    /// from the last recorded frame and its own registration solved it), else starts the chain
-    /// again from it; a lost or diverged frame ends the chain.
-    void recordFrame(const FrameReport& rep, bool chained);
+    /// Once per frame, with its final report: the run's reference takes its inlier ratio when its
+    /// fit was sound (not diverged, converged, no inlier, prediction or drift flag), and the drift
+    /// check's chain is extended with it when `chained` (the IMU predicted it from the last
+    /// recorded frame and its own registration solved it), else started again from it; a lost
+    /// or diverged frame ends the chain. The only change to the monitor's state.
+    void commit(const FrameReport& rep, bool chained);
 
    private:
     HealthChecks check(const FrameReport& r, double reference) const;

@@ -29,7 +29,9 @@ namespace superloc::localization {
 
 class Recovery {
    public:
-    Recovery(const LocalizerParams& params, Tracker& tracker, HealthMonitor& health, const SensorHistory& sensors,
+    /// `solve`: the frame solved from a pose (Tracker::solveFrom); `health`: read only (its
+    /// classification and the reference), the Localizer commits each frame to it.
+    Recovery(const LocalizerParams& params, SolveFn solve, const HealthMonitor& health, const SensorHistory& sensors,
              const mrpt::system::COutputLogger& log);
     /// The global search over the map in use (none: relocalization disabled).
     void setSearch(const reloc::GlobalSearch* search) { search_ = search; }
@@ -50,9 +52,16 @@ class Recovery {
     /// Step 7: a frame lost for a while, or in doubt, searches the map (when `may_search`), and
     /// the doubt carried to the next frames is updated.
     void recoverIfLost(Frame& f, bool may_search, FrameSolution& sol, FrameReport& rep);
-    /// The frame is final: the drift chain and the last frame not lost are updated; returns the
-    /// state the next frame starts from (a lost frame's: a restart from the last one not lost).
-    fusion::FrameState endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep);
+    /// Whether a pose this frame took (a relocalization, the start check's, candidates') means
+    /// the next frame starts with its velocity unknown, as decided so far this frame.
+    bool restart() const { return restart_; }
+    /// What the next frame starts from, decided when the frame is final.
+    struct NextFrame {
+        fusion::FrameState state;  ///< the frame's own, or a lost frame's restart from the last one not lost
+        bool restart = false;      ///< its velocity is unknown (Tracker::setRestart)
+    };
+    /// The frame is final: the last frame not lost is updated, and the next frame's start decided.
+    NextFrame endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep);
 
    private:
     /// The map searched for the current scan (lost_search.cpp), in `region` or everywhere.
@@ -79,11 +88,10 @@ class Recovery {
     /// (local), or nowhere in particular (global: empty).
     std::optional<reloc::SearchRegion> lostRegion(double t, int lost_run) const;
     /// The health checks on a report that changed pose (its prediction check first).
-    void assess(FrameReport& rep);
+    void assess(FrameReport& rep) const;
 
     const LocalizerParams& params_;
-    Tracker& tracker_;
-    HealthMonitor& health_;
+    const HealthMonitor& health_;
     const SensorHistory& sensors_;
     const mrpt::system::COutputLogger& log_;
     const reloc::GlobalSearch* search_ = nullptr;
@@ -103,6 +111,7 @@ class Recovery {
     bool doubt_ = false;  ///< a frame in doubt was not settled by a search: confirm the next
     /// the last frame was `ok` or a verified relocalization: its pose can anchor a velocity
     bool prev_verified_ = false;
+    bool restart_ = false;  ///< this frame's decision: the next one starts with its velocity unknown
 };
 
 }  // namespace superloc::localization

@@ -1,12 +1,14 @@
 // The one verification every recovery policy uses (recovery.h): a pose tried for the current
-// scan is solved by the Tracker's registration from there (Tracker::solveFrom), then judged by
-// the health checks (HealthMonitor::classify: the run's reference is not touched).
+// scan is solved by the solve function it is given (the Tracker's registration from there,
+// Tracker::solveFrom), then judged by the health checks (HealthMonitor::classify: the run's
+// reference is not touched).
 #pragma once
 
 #include <superloc/localization/health.h>
 #include <superloc/localization/relocalization.h>
 #include <superloc/localization/tracker.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -21,10 +23,14 @@ struct Attempt {
     std::string why;     ///< the failed checks, '+'-joined
 };
 
+/// How a pose is solved for the current scan: the Tracker's registration from `start`
+/// (Tracker::solveFrom), filling the report it is handed.
+using SolveFn = std::function<FrameSolution(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r)>;
+
 class Verifier {
    public:
-    Verifier(Tracker& tracker, const HealthMonitor& health, const RelocalizationParams& params)
-        : tracker_(tracker), health_(health), params_(params) {}
+    Verifier(SolveFn solve, const HealthMonitor& health, const RelocalizationParams& params)
+        : solve_(std::move(solve)), health_(health), params_(params) {}
     /// The frame solved from `start` (at the scan's time) as `as` says, on a copy of `base`.
     Attempt verify(Frame& f, const fusion::FrameState& start, const FrameReport& base, VerifyAs as) const;
     /// Each pose (T_map_lidar) in turn, from a state at rest with the frame's previous biases.
@@ -40,7 +46,7 @@ class Verifier {
     const HealthMonitor& health() const { return health_; }
 
    private:
-    Tracker& tracker_;
+    SolveFn solve_;
     const HealthMonitor& health_;
     const RelocalizationParams& params_;
 };
