@@ -169,11 +169,10 @@ SuiteSpec loadSuite(const std::string& path, const std::string& data_dir) {
     // with and without IMU) share one simulation.
     std::map<std::string, std::string> simulated;
     for (auto& q : s.sequences) {
-        q.data_name = q.name;
         if (q.kind != SequenceSpec::Kind::Sim) continue;
         std::string key = q.config + '\n' + std::to_string(q.seed);
         for (const auto& w : q.sim_sets) key += '\n' + w;
-        q.data_name = simulated.emplace(key, q.name).first->second;
+        if (const auto& first = simulated.emplace(key, q.name).first->second; first != q.name) q.data_name = first;
     }
     return s;
 }

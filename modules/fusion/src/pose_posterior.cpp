@@ -58,14 +58,13 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
     Update u;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
-    Mat6d pose_info = H_added, pose_info_without_scan = Mat6d::Zero();
+    Mat6d pose_info = H_added, carried_pose = Mat6d::Zero();
     if (in.imu && in.imu->dt() > 0) {
         FrameProblemInputs p = in;
         p.prev_prior = prior_ ? &*prior_ : nullptr;
         if (const auto carried = imuWindowStateInformation(p, params)) {
             u.with_imu = true;
             u.info_without_scan = *carried;
-            if (const auto I = poseInformation(*carried)) pose_info_without_scan = *I;
             u.info = *carried;
             u.info.topLeftCorner<6, 6>() += H_added;
             if (const auto I = poseInformation(u.info)) pose_info = *I;
@@ -81,16 +80,24 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
             const Mat6d Apc = Jp.transpose() * W;
             Mat6d carried = W - Apc.transpose() * ldlt.solve(Apc);
             carried = 0.5 * (carried + carried.transpose());
-            if (carried.allFinite()) pose_info += carried, pose_info_without_scan = carried;
+            if (carried.allFinite()) pose_info += carried, carried_pose = carried;
         }
     }
     if (!u.with_imu) {
         u.info.topLeftCorner<6, 6>() = pose_info;
-        u.info_without_scan.topLeftCorner<6, 6>() = pose_info_without_scan;
+        u.info_without_scan.topLeftCorner<6, 6>() = carried_pose;
     }
     u.cov = covariance(pose_info, H, imu_deskewed);
-    u.cov_without_scan = covariance(pose_info_without_scan, H, imu_deskewed);
     return u;
+}
+
+PosePosterior::Update PosePosterior::withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed) const {
+    Update w = u;
+    w.info = u.info_without_scan;
+    Mat6d pose_info = u.info_without_scan.topLeftCorner<6, 6>();
+    if (u.with_imu) pose_info = poseInformation(u.info_without_scan).value_or(Mat6d::Zero());
+    w.cov = covariance(pose_info, H, imu_deskewed);
+    return w;
 }
 
 void PosePosterior::commit(const Update& u) {

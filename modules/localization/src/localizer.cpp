@@ -133,10 +133,7 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     recovery_.recoverIfLost(f, !requested, sol, rep);
     // A frame whose own registration is in doubt (not converged, or fitting clearly worse than
     // this map gives) reports, and carries, what it knew without its scan (doc/method.md §4).
-    if (sol.post && !rep.recovered && rep.checks.inDoubt()) {
-        sol.post->dropScan();
-        rep.cov = sol.post->cov;
-    }
+    if (sol.post && !rep.recovered && rep.checks.inDoubt()) rep.cov = tracker_.dropScan(f, sol);
     // The frame is final. The health monitor commits it once (the reference, and the drift
     // check's chain, which goes on through frames the IMU predicted from the one before and
     // their own registration solved); the next frame starts from what the Recovery decided.

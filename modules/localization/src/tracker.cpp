@@ -160,12 +160,19 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
     sol.post = post_.update(in, params_.fusion, sol.scan_info,
                             sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
-                            f.pred.twist_from_imu && !f.features.motion.empty());
-    const Vec6d sweep = sweepSigma(f, sol.state).cwiseAbs2();
-    sol.post->cov.diagonal() += sweep;
-    sol.post->cov_without_scan.diagonal() += sweep;
+                            deskewedAlongImu(f));
     rep.cov = sol.post->cov;
+    rep.cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
 }
+
+Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {
+    sol.post = post_.withoutScan(*sol.post, sol.scan_info, deskewedAlongImu(f));
+    Mat6d cov = sol.post->cov;
+    cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
+    return cov;
+}
+
+bool Tracker::deskewedAlongImu(const Frame& f) { return f.pred.twist_from_imu && !f.features.motion.empty(); }
 
 Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur) const {
     // What the sweep's motion leaves in the registered pose, per body axis (doc/method.md §4):

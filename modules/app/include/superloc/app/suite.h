@@ -43,9 +43,9 @@ struct SequenceSpec {
     std::string map_scans = "even", localize_scans = "odd";
     bool circular = false;              ///< real: a labelled sanity check with map_scans == localize_scans
     std::vector<std::string> localize_sets;  ///< extra --set for this sequence's localize runs
-    /// The folder of its data under DIR/data: its own name, or that of the first sequence of the
-    /// suite that simulates the same data (same config, seed and sim_set; it differs only in its
-    /// localize_set), whose data it shares.
+    /// The folder of its data under DIR/data when not its own name: that of the first sequence
+    /// of the suite that simulates the same data (same config, seed and sim_set; it differs only
+    /// in its localize_set), whose data it shares. Empty: its own.
     std::string data_name;
 };
 

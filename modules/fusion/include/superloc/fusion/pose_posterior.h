@@ -54,19 +54,8 @@ class PosePosterior {
         SE3d T_ref = SE3d::Identity();
         Vec9d sb_ref = Vec9d::Zero();
         Mat6d cov = Mat6d::Identity();  ///< the pose's covariance, floor included
-        /// The same without the frame's scan (the carried information alone): what the frame
-        /// knows when its registration is in doubt (not converged, or fitting clearly worse than
-        /// this map gives): the scan's information is then taken at associations that may be
-        /// wrong (a corridor's end wall coming into view 5 m from where the drifted pose puts
-        /// it: 1 cm claimed, 5.4 m off).
+        /// `info` without the frame's scan (the carried information alone), for withoutScan().
         Mat15d info_without_scan = Mat15d::Zero();
-        Mat6d cov_without_scan = Mat6d::Identity();
-        /// The frame's registration is in doubt: its scan is dropped, from the reported
-        /// covariance and from what is carried to the next frame.
-        void dropScan() {
-            info = info_without_scan;
-            cov = cov_without_scan;
-        }
     };
 
     /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
@@ -78,6 +67,13 @@ class PosePosterior {
     /// then floor_xyz_imu).
     Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H,
                   const Mat6d& H_added, bool imu_deskewed = false) const;
+    /// `u` without its frame's scan: what the frame knows when its registration is in doubt (not
+    /// converged, or fitting clearly worse than this map gives), the scan's information being
+    /// taken at associations that may be wrong (a corridor's end wall coming into view 5 m from
+    /// where the drifted pose puts it: 1 cm claimed, 5.4 m off). Its `info` is what the frame
+    /// then carries, its `cov` (floor included, `H` and `imu_deskewed` as for update()) what it
+    /// reports. Computed only for such a frame.
+    Update withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed = false) const;
     /// The frame is final: its information is the next frame's prior.
     void commit(const Update& u);
     /// Forget everything (a lost, diverged or relocalized frame).

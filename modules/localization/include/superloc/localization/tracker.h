@@ -81,6 +81,11 @@ class Tracker {
     /// frame was localized without a pose; `pending`: a relocalization is still asked for.
     void end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
              bool requested, bool pending);
+    /// A frame whose own registration is in doubt (not converged, or fitting clearly worse than
+    /// the map gives: health's checks) keeps what it knew without its scan: `sol`'s posterior
+    /// becomes that (what end() carries on), and its covariance, as posterior() reports it, is
+    /// returned (doc/method.md §4).
+    Mat6d dropScan(const Frame& f, FrameSolution& sol) const;
     /// The frame's correspondences back once nothing needs them: the next track() solves into
     /// them (no allocation per frame).
     void recycle(std::vector<Correspondence>&& corr) { spare_corr_ = std::move(corr); }
@@ -150,6 +155,9 @@ class Tracker {
     /// The std per body axis (x y z [m], roll pitch yaw [rad]) the sweep's motion leaves in the
     /// pose where it was not deskewed along the IMU (added to the posterior's covariance).
     Vec6d sweepSigma(const Frame& f, const fusion::FrameState& cur) const;
+    /// The frame's sweep was deskewed along the IMU's trajectory (the position's floor is then
+    /// the map's alone, [fusion] cov_floor_imu_xyz).
+    static bool deskewedAlongImu(const Frame& f);
     /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
     /// scan alone, above its noise floor (doc/method.md §4).
     void scanCovariance(const FrameSolution& sol, FrameReport& rep) const;
