@@ -20,6 +20,7 @@ struct LocalizeRun {
     std::vector<localization::FrameReport> frames;  ///< every frame's report, in order
     double ate = 0, worst_m = 0, worst_deg = 0;     ///< against the ground truth
     std::vector<double> err_m, err_deg;             ///< per frame (NaN: no GT)
+    std::vector<double> err_z;                      ///< [m] per frame: estimated minus GT height (map z)
     /// Frames more than 0.5 m / 5 deg from the ground truth that were reported `ok`.
     size_t confidentlyWrong() const {
         size_t n = 0;
@@ -54,11 +55,12 @@ inline LocalizeRun localizeAndCompare(const std::vector<std::string>& args, cons
         const auto g = interpolateAt(gt, e.t, max_gap, 1e-3);
         if (!g) {
             ADD_FAILURE() << "no GT at " << e.t;
-            r.err_m.push_back(std::nan("")), r.err_deg.push_back(std::nan(""));
+            r.err_m.push_back(std::nan("")), r.err_deg.push_back(std::nan("")), r.err_z.push_back(std::nan(""));
             continue;
         }
         const double d = translationDistance(*g, e.pose);
         r.err_m.push_back(d);
+        r.err_z.push_back(e.pose.translation().z() - g->translation().z());
         r.err_deg.push_back(rotationAngle(*g, e.pose) * 180 / M_PI);
         se += d * d;
         r.worst_m = std::max(r.worst_m, d);

@@ -40,7 +40,8 @@ struct CappedCovariance {
 
 Mat6d cappedCovariance(const Mat6d& info) { return CappedCovariance(info).C; }
 
-Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
+namespace {
+Mat6d aboveNoiseScale(const Mat6d& H, double floor_share) {
     Mat6d S = Mat6d::Zero();
     S.topLeftCorner<3, 3>() = noiseScale(H.topLeftCorner<3, 3>(), floor_share);
     // Rotation: no floor. A torque's noise grows with the lever arm, so a share of the group's
@@ -48,7 +49,15 @@ Mat6d informationAboveNoise(const Mat6d& H, double floor_share) {
     // corridor; the rotation degeneracies (yaw over a plane, roll in a round tunnel) are exact
     // zeros of the torques, not a noise level.
     S.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity();
-    const Mat6d out = S * H * S;
+    return S;
+}
+}  // namespace
+
+Mat6d informationAboveNoise(const Mat6d& H, double floor_share) { return informationAboveNoise(H, floor_share, H); }
+
+Mat6d informationAboveNoise(const Mat6d& H, double floor_share, const Mat6d& G) {
+    const Mat6d S = aboveNoiseScale(H, floor_share);
+    const Mat6d out = S * G * S;
     return 0.5 * (out + out.transpose());
 }
 

@@ -30,6 +30,18 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
     fusion::FrameState& prev = p.prev ? *p.prev : no_prev;
     const fusion::FrameState prev_saved = prev;
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
+    // Each correspondence carries its point's time in the sweep (the sweep's share of the pose's
+    // covariance, Tracker::sweepCovariance).
+    std::vector<uint32_t> feature_of;
+    const std::vector<float>& rel_time = p.features->rel_time;
+    const auto associateTimed = [&](const std::vector<Vec3d>& pts, const SE3d& T, const map::PriorMap& m,
+                                    const AssociationParams& ap, std::vector<Correspondence>& out,
+                                    AssociationStats& stats) {
+        const bool timed = rel_time.size() == pts.size();
+        associate(pts, T, m, ap, out, stats, timed ? &feature_of : nullptr);
+        if (timed)
+            for (size_t j = 0; j < out.size(); ++j) out[j].rel_time = rel_time[feature_of[j]];
+    };
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
     // starts at the coarsest level, whose metre-sized voxels give a wide basin, a tracked frame
@@ -70,7 +82,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         const bool finest = voxel ? level == 0 : radius <= lp_.max_corr_dist;
         const SE3d T_before = sol.state.T_map_imu();
         auto t0 = Clock::now();
-        associate(pts_body, T_before, map, ap, sol.corr, sol.stats);
+        associateTimed(pts_body, T_before, map, ap, sol.corr, sol.stats);
         rep.ms.associate += msSince(t0);
         if (r == 0 || (voxel && level == 0 && in_stage == 0 && p.wide)) {
             // Step 4: alignment risk before the optimisation at this resolution (doc/method.md): at
@@ -154,7 +166,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         AssociationParams ap = assoc_;
         ap.voxel = voxel;
         const auto t0 = Clock::now();
-        associate(pts_body, sol.state.T_map_imu(), map, ap, sol.corr, sol.stats);
+        associateTimed(pts_body, sol.state.T_map_imu(), map, ap, sol.corr, sol.stats);
         rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();

@@ -23,6 +23,9 @@ void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::F
     rep.points_valid = out.valid.size();
     rep.candidates = out.candidates.size();
     rep.features = out.feature_idx.size();
+    out.rel_time.clear();
+    if (scan.rel_time.size() == scan.size())
+        for (uint32_t i : out.feature_idx) out.rel_time.push_back(scan.rel_time[i]);
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (doc/method.md §3).
     features::SweepMotion motion;

@@ -4,6 +4,7 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/tracker.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace superloc::localization {
@@ -161,47 +162,85 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     sol.post = post_.update(in, params_.fusion, sol.scan_info,
                             sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
                             deskewedAlongImu(f));
-    rep.cov = sol.post->cov;
-    rep.cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
+    rep.cov = sol.post->cov + sweepCovariance(f, sol);
 }
 
 Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {
+    // Without its scan the pose is what was carried: the sweep's distortion of the scan is not in it.
     sol.post = post_.withoutScan(*sol.post, sol.scan_info, deskewedAlongImu(f));
-    Mat6d cov = sol.post->cov;
-    cov.diagonal() += sweepSigma(f, sol.state).cwiseAbs2();
-    return cov;
+    return sol.post->cov;
 }
 
 bool Tracker::deskewedAlongImu(const Frame& f) { return f.pred.twist_from_imu && !f.features.motion.empty(); }
 
-Vec6d Tracker::sweepSigma(const Frame& f, const fusion::FrameState& cur) const {
-    // What the sweep's motion leaves in the registered pose, per body axis (doc/method.md §4):
-    // deskewed along the IMU's trajectory, nothing beyond the floor. Otherwise the scan is an
-    // average over the sweep's poses, and the pose is off by what the deskew did not undo:
-    // - not deskewed: the motion over half a sweep (the mean of the sweep's poses is that far
-    //   from its last);
+Tracker::SweepDeparture Tracker::sweepDeparture(const Frame& f, const fusion::FrameState& cur) const {
+    // What the sweep's motion leaves undone (doc/method.md §4): deskewed along the IMU's
+    // trajectory, nothing beyond the floor. Otherwise the points were placed along a path that
+    // departs from the sensor's by delta g(s) (s in [0, 1] from the sweep's first point to its
+    // last, the scan's time):
+    // - not deskewed: the motion from the point's time to the scan's, the whole sweep's motion
+    //   delta with g = 1 - s;
     // - deskewed with one constant twist from odom_alt: the motion's departure from it, which
-    //   odom_alt's own samples show at mid-sweep; a constant acceleration bends the path into a
-    //   parabola whose mean over the sweep is 2/3 of that peak (a swaying sensor: 0.15 deg of
-    //   pitch at 3 Hz);
-    // - deskewed with the constant velocity of the last two frames: half a sweep of the change
-    //   between that velocity and the solved one (a wrong rate's error grows linearly over the
-    //   sweep).
-    // No span where `[features] deskew = false` says the sweeps come motion-compensated (KITTI's
+    //   odom_alt's own samples show at mid-sweep (delta); a constant acceleration bends the path
+    //   into a parabola through both ends, g = 4 s (1 - s) (a swaying sensor: 0.15 deg of pitch
+    //   at 3 Hz);
+    // - deskewed with the constant velocity of the last two frames: a wrong rate's error grows
+    //   from the scan's time back over the sweep, delta the whole sweep's share of the change
+    //   between that velocity and the solved one, g = 1 - s.
+    // None where `[features] deskew = false` says the sweeps come motion-compensated (KITTI's
     // scans) or the points carry no times (ScanFeatures::sweep_s).
-    Vec6d s = Vec6d::Zero();
+    SweepDeparture d;
     const double T = f.features.sweep_s, dt = cur.t - f.prev.t;
-    if (f.first || f.pred.twist_from_imu || !(T > 0 && T < 1.0 && dt > 0)) return s;
+    if (f.first || f.pred.twist_from_imu || !(T > 0 && T < 1.0 && dt > 0)) return d;
+    d.T = T;
     const Vec6d xi = toVec6(f.prev.T_map_imu().inverse() * cur.T_map_imu()) / dt;  // solved body twist
-    if (f.features.motion.empty()) return (xi * (0.5 * T)).cwiseAbs();
+    if (f.features.motion.empty()) {
+        d.delta = xi * T;
+        return d;
+    }
     if (f.pred.from_odom) {
         const auto half = sensors_.odomAltDelta(cur.t - T, cur.t - 0.5 * T), whole = sensors_.odomAltDelta(cur.t - T, cur.t);
-        if (half && whole) return (2.0 / 3.0) * (toVec6(*half) - 0.5 * toVec6(*whole)).cwiseAbs();
-        return s;
+        if (half && whole) {
+            d.delta = toVec6(*half) - 0.5 * toVec6(*whole);
+            d.parabola = true;
+        }
+        return d;
     }
     Vec6d pred;
     pred << f.pred.v_body, f.pred.w_body;
-    return ((xi - pred) * (0.5 * T)).cwiseAbs();
+    d.delta = (xi - pred) * T;
+    return d;
+}
+
+Mat6d Tracker::sweepCovariance(const Frame& f, const FrameSolution& sol) const {
+    // A point of the sweep at s is displaced by g(s) (delta_t + delta_r x p): its residual moves by
+    // g(s) J delta, J its row of the scan's Jacobian (body axes). The solve answers with the pose
+    // error M delta, M = (A + C)^-1 A_g: A the scan's information above its noise floor, A_g the
+    // same with each residual weighted by g(s), C what the frame carried without its scan. Where
+    // every point shares one g, M = g I (the motion's mean over the sweep: 1/2 for a rate, 2/3
+    // for a parabola); where the sweep's points see a direction at different times M couples the
+    // axes (a swaying sensor in a corridor: the floor behind, seen at the sweep's ends, and ahead,
+    // at its middle, tilt differently, and the fit answers with pitch *and* z). Each axis's
+    // departure counts as independent with std |delta_k|: cov = M diag(delta^2) M^T.
+    const SweepDeparture d = sweepDeparture(f, sol.state);
+    if (d.delta.isZero() || sol.corr.empty() || !sol.post) return Mat6d::Zero();
+    std::vector<double> sqrt_wg(sol.corr.size());
+    for (size_t i = 0; i < sol.corr.size(); ++i) {
+        const double s = std::clamp((double(sol.corr[i].rel_time) + d.T) / d.T, 0.0, 1.0);
+        const double g = d.parabola ? 4.0 * s * (1.0 - s) : 1.0 - s;
+        sqrt_wg[i] = std::sqrt(std::max(0.0, sol.corr[i].weight) * g);
+    }
+    const SE3d T = sol.state.T_map_imu();
+    const double floor_share = std::pow(std::sin(params_.risk.normal_noise_deg * kDeg), 2);
+    const Mat6d H = fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma);
+    const Mat6d A = fusion::informationAboveNoise(H, floor_share);
+    const Mat6d A_g = fusion::informationAboveNoise(
+        H, floor_share, fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma, &sqrt_wg));
+    Mat6d C = sol.post->info_without_scan.topLeftCorner<6, 6>();
+    if (sol.post->with_imu) C = fusion::poseInformation(sol.post->info_without_scan).value_or(Mat6d::Zero());
+    const Mat6d M = fusion::cappedCovariance(A + C) * A_g;
+    const Mat6d cov = M * d.delta.cwiseAbs2().asDiagonal() * M.transpose();
+    return cov.allFinite() ? Mat6d(0.5 * (cov + cov.transpose())) : Mat6d::Zero();
 }
 
 void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,

@@ -21,6 +21,9 @@ struct Correspondence {
     Vec3d q = Vec3d::Zero();   ///< [m] map anchor point (map frame): on the plane / line, or the point
     Vec3d n = Vec3d::UnitZ();  ///< plane: unit normal; line: unit direction; point: unused
     FeatureType type = FeatureType::Plane;
+    /// [s] the scan point's time relative to the scan's (<= 0 within the sweep; 0 when untimed):
+    /// what the sweep's undone motion displaced it by depends on it (Tracker::sweepCovariance)
+    float rel_time = 0.0f;
     double weight = 1.0;       ///< fit quality in [0, 1]; <= 0: ignored by the risk step
 };
 

@@ -31,6 +31,9 @@ namespace superloc::fusion {
 /// are scaled alike (H_eff = S H S, S = V diag(sqrt(kept / eigenvalue)) V^T on the translation,
 /// identity on the rotation, whose degeneracies are exact zeros of the torques).
 Mat6d informationAboveNoise(const Mat6d& H, double floor_share);
+/// Another information `G` of the same residuals (e.g. reweighted) scaled as H's floor scales H:
+/// S G S with H's S.
+Mat6d informationAboveNoise(const Mat6d& H, double floor_share, const Mat6d& G);
 
 /// Where an estimate of information `info` is weak: per group, the eigen-directions u_i of its
 /// covariance, with std sigma_i, get the share w_i = sigma_i^2 / (sigma_i^2 + weak^2) (`weak_sigma`:

@@ -22,6 +22,7 @@ struct ScanFeatures {
     std::vector<uint32_t> feature_idx;  ///< the candidates used (capped, spread over the sweep)
     std::vector<Vec3f> deskewed;        ///< the features deskewed, LiDAR frame at the scan time
     std::vector<Vec3d> pts_body;        ///< ... in the body frame: what registration aligns
+    std::vector<float> rel_time;        ///< [s] ... their points' times relative to the scan's; empty when untimed
     std::vector<Vec3f> ndt_source;      ///< method ndt: every candidate, deskewed
     features::SweepMotion motion;       ///< the motion over the sweep the points are deskewed by
     /// [s] the sweep's span (−min of the points' relative times) where `[features] deskew` is on
