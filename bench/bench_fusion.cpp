@@ -165,4 +165,19 @@ static void BM_PoseCovariance(benchmark::State& st) {
 }
 BENCHMARK(BM_PoseCovariance)->Unit(benchmark::kMicrosecond);
 
+// What a frame deskewed without the IMU adds to BM_PoseCovariance: the sweep's departure through
+// the scan's geometry and its points' times (doc/method.md §4 "The sweep"), 2000 correspondences.
+static void BM_SweepCovariance(benchmark::State& st) {
+    auto corr = room(2000);
+    for (size_t i = 0; i < corr.size(); ++i) corr[i].rel_time = -0.1f * float(i) / float(corr.size());
+    const SE3d T = makePoseRPY(1, 2, 0.5, 0.01, 0.02, 0.3);
+    SweepDeparture d;
+    d.delta << 0.002, 0.001, 0.001, 0.0005, 0.002, 0.001;
+    d.T = 0.1;
+    d.parabola = true;
+    const Mat6d carried = Mat6d::Identity() * 100;
+    for (auto _ : st) benchmark::DoNotOptimize(sweepCovariance(corr, T, d, 0.05, 0.0049, carried));
+}
+BENCHMARK(BM_SweepCovariance)->Unit(benchmark::kMicrosecond);
+
 BENCHMARK_MAIN();

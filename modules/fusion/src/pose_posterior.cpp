@@ -2,8 +2,10 @@
 #include <superloc/core/se3.h>
 #include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/pose_posterior.h>
+#include <superloc/fusion/prior_weight.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 namespace superloc::fusion {
@@ -123,6 +125,23 @@ void PosePosterior::commit(const Update& u) {
 void PosePosterior::reset() {
     prior_.reset();
     pose_prior_.reset();
+}
+
+Mat6d sweepCovariance(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, const SweepDeparture& d,
+                      double scan_sigma, double floor_share, const Mat6d& carried) {
+    if (d.none() || corr.empty()) return Mat6d::Zero();
+    std::vector<double> g(corr.size());
+    for (size_t i = 0; i < corr.size(); ++i) {
+        const double s = std::clamp((double(corr[i].rel_time) + d.T) / d.T, 0.0, 1.0);
+        g[i] = d.parabola ? 4.0 * s * (1.0 - s) : 1.0 - s;
+    }
+    Mat6d H_g;
+    const Mat6d H = scanInformation(corr, T_map_imu, scan_sigma, nullptr, &g, &H_g);
+    const Mat6d A = informationAboveNoise(H, floor_share);
+    const Mat6d A_g = informationAboveNoise(H, floor_share, H_g);
+    const Mat6d M = cappedCovariance(A + carried) * A_g;
+    const Mat6d cov = M * d.delta.cwiseAbs2().asDiagonal() * M.transpose();
+    return cov.allFinite() ? Mat6d(0.5 * (cov + cov.transpose())) : Mat6d::Zero();
 }
 
 Mat6d toReported(const Mat6d& C, const SE3d& T_map_imu, const SE3d& T_imu_out) {

@@ -173,7 +173,7 @@ Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {
 
 bool Tracker::deskewedAlongImu(const Frame& f) { return f.pred.twist_from_imu && !f.features.motion.empty(); }
 
-Tracker::SweepDeparture Tracker::sweepDeparture(const Frame& f, const fusion::FrameState& cur) const {
+fusion::SweepDeparture Tracker::sweepDeparture(const Frame& f, const fusion::FrameState& cur) const {
     // What the sweep's motion leaves undone (doc/method.md §4): deskewed along the IMU's
     // trajectory, nothing beyond the floor. Otherwise the points were placed along a path that
     // departs from the sensor's by delta g(s) (s in [0, 1] from the sweep's first point to its
@@ -189,7 +189,7 @@ Tracker::SweepDeparture Tracker::sweepDeparture(const Frame& f, const fusion::Fr
     //   between that velocity and the solved one, g = 1 - s.
     // None where `[features] deskew = false` says the sweeps come motion-compensated (KITTI's
     // scans) or the points carry no times (ScanFeatures::sweep_s).
-    SweepDeparture d;
+    fusion::SweepDeparture d;
     const double T = f.features.sweep_s, dt = cur.t - f.prev.t;
     if (f.first || f.pred.twist_from_imu || !(T > 0 && T < 1.0 && dt > 0)) return d;
     d.T = T;
@@ -213,34 +213,15 @@ Tracker::SweepDeparture Tracker::sweepDeparture(const Frame& f, const fusion::Fr
 }
 
 Mat6d Tracker::sweepCovariance(const Frame& f, const FrameSolution& sol) const {
-    // A point of the sweep at s is displaced by g(s) (delta_t + delta_r x p): its residual moves by
-    // g(s) J delta, J its row of the scan's Jacobian (body axes). The solve answers with the pose
-    // error M delta, M = (A + C)^-1 A_g: A the scan's information above its noise floor, A_g the
-    // same with each residual weighted by g(s), C what the frame carried without its scan. Where
-    // every point shares one g, M = g I (the motion's mean over the sweep: 1/2 for a rate, 2/3
-    // for a parabola); where the sweep's points see a direction at different times M couples the
-    // axes (a swaying sensor in a corridor: the floor behind, seen at the sweep's ends, and ahead,
-    // at its middle, tilt differently, and the fit answers with pitch *and* z). Each axis's
-    // departure counts as independent with std |delta_k|: cov = M diag(delta^2) M^T.
-    const SweepDeparture d = sweepDeparture(f, sol.state);
-    if (d.delta.isZero() || sol.corr.empty() || !sol.post) return Mat6d::Zero();
-    std::vector<double> sqrt_wg(sol.corr.size());
-    for (size_t i = 0; i < sol.corr.size(); ++i) {
-        const double s = std::clamp((double(sol.corr[i].rel_time) + d.T) / d.T, 0.0, 1.0);
-        const double g = d.parabola ? 4.0 * s * (1.0 - s) : 1.0 - s;
-        sqrt_wg[i] = std::sqrt(std::max(0.0, sol.corr[i].weight) * g);
-    }
-    const SE3d T = sol.state.T_map_imu();
-    const double floor_share = std::pow(std::sin(params_.risk.normal_noise_deg * kDeg), 2);
-    const Mat6d H = fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma);
-    const Mat6d A = fusion::informationAboveNoise(H, floor_share);
-    const Mat6d A_g = fusion::informationAboveNoise(
-        H, floor_share, fusion::scanInformation(sol.corr, T, params_.fusion.scan_sigma, &sqrt_wg));
+    // Through the scan's geometry and its points' times (fusion::sweepCovariance, doc/method.md
+    // §4 "The sweep"): in a corridor a swaying sensor's floor behind, seen at the sweep's ends,
+    // and ahead, at its middle, tilt differently, and the fit answers with pitch *and* z.
+    const fusion::SweepDeparture d = sweepDeparture(f, sol.state);
+    if (d.none() || !sol.post) return Mat6d::Zero();
     Mat6d C = sol.post->info_without_scan.topLeftCorner<6, 6>();
     if (sol.post->with_imu) C = fusion::poseInformation(sol.post->info_without_scan).value_or(Mat6d::Zero());
-    const Mat6d M = fusion::cappedCovariance(A + C) * A_g;
-    const Mat6d cov = M * d.delta.cwiseAbs2().asDiagonal() * M.transpose();
-    return cov.allFinite() ? Mat6d(0.5 * (cov + cov.transpose())) : Mat6d::Zero();
+    return fusion::sweepCovariance(sol.corr, sol.state.T_map_imu(), d, params_.fusion.scan_sigma,
+                                   std::pow(std::sin(params_.risk.normal_noise_deg * kDeg), 2), C);
 }
 
 void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,

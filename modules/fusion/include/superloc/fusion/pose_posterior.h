@@ -22,11 +22,13 @@
 // convention.
 #pragma once
 
+#include <superloc/core/correspondence.h>
 #include <superloc/core/types.h>
 #include <superloc/fusion/frame_problem.h>
 #include <superloc/fusion/state_prior_factor.h>
 
 #include <optional>
+#include <vector>
 
 namespace superloc::fusion {
 
@@ -92,6 +94,29 @@ class PosePosterior {
     std::optional<StatePrior> prior_;  ///< with IMU: on the last committed state
     std::optional<std::pair<SE3d, Mat6d>> pose_prior_;  ///< without: T_map_imu and its information
 };
+
+/// How the sensor's path departed from the one a sweep was deskewed along (doc/method.md §4 "The
+/// sweep"): a point at s in [0, 1] of the sweep (its first point to its last, the scan's time) was
+/// placed g(s) delta off, delta (body axes: x y z [m], roll pitch yaw [rad]) at its largest, g a
+/// parabola through both ends (4 s (1 - s): a constant acceleration off a constant twist) or
+/// growing back from the scan's time (1 - s: a wrong rate, or no deskew); T [s] the sweep's span.
+struct SweepDeparture {
+    Vec6d delta = Vec6d::Zero();
+    bool parabola = false;
+    double T = 0;
+    bool none() const { return delta.isZero() || !(T > 0); }
+};
+
+/// The covariance that departure leaves in a pose solved at T_map_imu from `corr` (each with its
+/// point's time, Correspondence::rel_time) with `carried` the pose's information without the scan
+/// (body axes, as scanInformation). A point at s is displaced by g(s) (delta_t + delta_r x p), so
+/// its residual by g(s) J delta; the solve answers with M delta, M = (A + C)^-1 A_g, A the scan's
+/// information above its noise floor (informationAboveNoise with `floor_share`), A_g the same with
+/// each residual weighted by g. Each axis's departure independent with std |delta_k|:
+/// M diag(delta^2) M^T. One g for every point gives M = g I; points that see a direction at
+/// different times couple the axes (floor ahead and behind: z with pitch).
+Mat6d sweepCovariance(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, const SweepDeparture& d,
+                      double scan_sigma, double floor_share, const Mat6d& carried);
 
 /// The covariance `C` of a right perturbation of T_map_imu as the ROS convention of the reported
 /// pose T_map_imu * T_imu_out (e.g. T_imu_lidar): position in the map frame, rotation about the

@@ -152,16 +152,9 @@ class Tracker {
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
     void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
-    /// How the sensor's path departed from the one the sweep was deskewed along: `delta` (body
-    /// axes: x y z [m], roll pitch yaw [rad]) at its largest, its shape over the sweep (a
-    /// parabola through both ends, or growing linearly back from the scan's time) and the
-    /// sweep's span T [s]; zero where the sweep was deskewed along the IMU or is untimed.
-    struct SweepDeparture {
-        Vec6d delta = Vec6d::Zero();
-        bool parabola = false;
-        double T = 0;
-    };
-    SweepDeparture sweepDeparture(const Frame& f, const fusion::FrameState& cur) const;
+    /// How the sensor's path departed from the one the sweep was deskewed along; none where it
+    /// was deskewed along the IMU or is untimed.
+    fusion::SweepDeparture sweepDeparture(const Frame& f, const fusion::FrameState& cur) const;
     /// The covariance that departure leaves in the solved pose, through the scan's geometry and
     /// its points' times (added to the posterior's; doc/method.md §4).
     Mat6d sweepCovariance(const Frame& f, const FrameSolution& sol) const;
