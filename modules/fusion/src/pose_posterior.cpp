@@ -130,15 +130,16 @@ void PosePosterior::reset() {
 Mat6d sweepCovariance(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, const SweepDeparture& d,
                       double scan_sigma, double floor_share, const Mat6d& carried) {
     if (d.none() || corr.empty()) return Mat6d::Zero();
-    std::vector<double> g(corr.size());
+    // A_g: each residual's fit weight times g at its point's time, as scanInformation's weights.
+    std::vector<double> sqrt_wg(corr.size());
     for (size_t i = 0; i < corr.size(); ++i) {
         const double s = std::clamp((double(corr[i].rel_time) + d.T) / d.T, 0.0, 1.0);
-        g[i] = d.parabola ? 4.0 * s * (1.0 - s) : 1.0 - s;
+        const double g = d.parabola ? 4.0 * s * (1.0 - s) : 1.0 - s;
+        sqrt_wg[i] = std::sqrt(std::max(0.0, corr[i].weight) * g);
     }
-    Mat6d H_g;
-    const Mat6d H = scanInformation(corr, T_map_imu, scan_sigma, nullptr, &g, &H_g);
+    const Mat6d H = scanInformation(corr, T_map_imu, scan_sigma);
     const Mat6d A = informationAboveNoise(H, floor_share);
-    const Mat6d A_g = informationAboveNoise(H, floor_share, H_g);
+    const Mat6d A_g = informationAboveNoise(H, floor_share, scanInformation(corr, T_map_imu, scan_sigma, &sqrt_wg));
     const Mat6d M = cappedCovariance(A + carried) * A_g;
     const Mat6d cov = M * d.delta.cwiseAbs2().asDiagonal() * M.transpose();
     return cov.allFinite() ? Mat6d(0.5 * (cov + cov.transpose())) : Mat6d::Zero();

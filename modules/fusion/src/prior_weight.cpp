@@ -78,13 +78,12 @@ void ActiveFusionParams::validate() const {
 }
 
 Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, double sigma,
-                      const std::vector<double>* sqrt_w, const std::vector<double>* g, Mat6d* H_g) {
+                      const std::vector<double>* sqrt_w) {
     // The scan factor's analytic Jacobian is w.r.t. PoseManifold's [dt (map), dtheta (body)];
     // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0
     // I].
     const Mat3d R = T.linear();
     Mat6d H = Mat6d::Zero();
-    if (H_g) H_g->setZero();
     double r[3], J[18];
     for (size_t i = 0; i < corr.size(); ++i) {
         const double w = sqrt_w && i < sqrt_w->size() ? (*sqrt_w)[i] * (*sqrt_w)[i]
@@ -92,16 +91,12 @@ Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, do
         if (!(w > 0)) continue;
         correspondenceResidual(corr[i], R, T.translation(), r, J);
         const int d = residualDim(corr[i].type);
-        const double gi = H_g && g && i < g->size() ? (*g)[i] : 0.0;
         for (int k = 0; k < d; ++k) {
             Vec6d row = Eigen::Map<const Vec6d>(J + 6 * k);
             row.head<3>() = R.transpose() * row.head<3>();
-            const Mat6d rr = w * row * row.transpose();
-            H.noalias() += rr;
-            if (H_g && gi > 0) H_g->noalias() += gi * rr;
+            H.noalias() += w * row * row.transpose();
         }
     }
-    if (H_g) *H_g /= sigma * sigma;
     return H / (sigma * sigma);
 }
 

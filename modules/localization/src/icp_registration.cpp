@@ -34,13 +34,11 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
     // covariance, Tracker::sweepCovariance).
     std::vector<uint32_t> feature_of;
     const std::vector<float>& rel_time = p.features->rel_time;
-    const auto associateTimed = [&](const std::vector<Vec3d>& pts, const SE3d& T, const map::PriorMap& m,
-                                    const AssociationParams& ap, std::vector<Correspondence>& out,
-                                    AssociationStats& stats) {
-        const bool timed = rel_time.size() == pts.size();
-        associate(pts, T, m, ap, out, stats, timed ? &feature_of : nullptr);
+    const bool timed = rel_time.size() == pts_body.size();
+    const auto associateAt = [&](const SE3d& T, const AssociationParams& ap) {
+        associate(pts_body, T, map, ap, sol.corr, sol.stats, timed ? &feature_of : nullptr);
         if (timed)
-            for (size_t j = 0; j < out.size(); ++j) out[j].rel_time = rel_time[feature_of[j]];
+            for (size_t j = 0; j < sol.corr.size(); ++j) sol.corr[j].rel_time = rel_time[feature_of[j]];
     };
     // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame
     // whose prediction may be far off (velocity unknown: first frame, no velocity yet, a gap)
@@ -82,7 +80,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         const bool finest = voxel ? level == 0 : radius <= lp_.max_corr_dist;
         const SE3d T_before = sol.state.T_map_imu();
         auto t0 = Clock::now();
-        associateTimed(pts_body, T_before, map, ap, sol.corr, sol.stats);
+        associateAt(T_before, ap);
         rep.ms.associate += msSince(t0);
         if (r == 0 || (voxel && level == 0 && in_stage == 0 && p.wide)) {
             // Step 4: alignment risk before the optimisation at this resolution (doc/method.md): at
@@ -166,7 +164,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, Fr
         AssociationParams ap = assoc_;
         ap.voxel = voxel;
         const auto t0 = Clock::now();
-        associateTimed(pts_body, sol.state.T_map_imu(), map, ap, sol.corr, sol.stats);
+        associateAt(sol.state.T_map_imu(), ap);
         rep.ms.associate += msSince(t0);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();

@@ -4,7 +4,6 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/tracker.h>
 
-#include <algorithm>
 #include <cmath>
 
 namespace superloc::localization {

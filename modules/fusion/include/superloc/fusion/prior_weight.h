@@ -74,11 +74,9 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
 /// Information of the scan residuals w.r.t. a body perturbation of T_map_imu:
 /// H = sum_i w_i / sigma^2 J_i^T J_i (the Gauss-Newton Hessian of paper eq. 1 / 12's scan term).
 /// w_i = fit weight * robust weight when `sqrt_w` (ScanFactor::sqrtWeights, squared) is given,
-/// else the fit weight alone. With `H_g`, also the same sum with residual i weighted by g_i
-/// (the sweep's departure at its point's time: fusion::sweepCovariance), in the same pass.
-Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double sigma,
-                      const std::vector<double>* sqrt_w = nullptr, const std::vector<double>* g = nullptr,
-                      Mat6d* H_g = nullptr);
+/// else the fit weight alone.
+Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T_map_imu,
+                      double sigma, const std::vector<double>* sqrt_w = nullptr);
 
 /// s_k = tr(H_tt) / 3 for x, y, z and tr(H_rr) / 3 for roll, pitch, yaw: the mean information
 /// one axis of the group receives from the scan.
