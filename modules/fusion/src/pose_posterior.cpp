@@ -93,12 +93,15 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
     return u;
 }
 
+Mat6d PosePosterior::Update::carriedPoseInformation() const {
+    if (with_imu) return poseInformation(info_without_scan).value_or(Mat6d::Zero());
+    return info_without_scan.topLeftCorner<6, 6>();
+}
+
 PosePosterior::Update PosePosterior::withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed) const {
     Update w = u;
     w.info = u.info_without_scan;
-    Mat6d pose_info = u.info_without_scan.topLeftCorner<6, 6>();
-    if (u.with_imu) pose_info = poseInformation(u.info_without_scan).value_or(Mat6d::Zero());
-    w.cov = covariance(pose_info, H, imu_deskewed);
+    w.cov = covariance(u.carriedPoseInformation(), H, imu_deskewed);
     return w;
 }
 

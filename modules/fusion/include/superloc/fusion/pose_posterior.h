@@ -58,6 +58,8 @@ class PosePosterior {
         Mat6d cov = Mat6d::Identity();  ///< the pose's covariance, floor included
         /// `info` without the frame's scan (the carried information alone), for withoutScan().
         Mat15d info_without_scan = Mat15d::Zero();
+        /// The pose's part of info_without_scan (with IMU the velocity and biases marginalized).
+        Mat6d carriedPoseInformation() const;
     };
 
     /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
