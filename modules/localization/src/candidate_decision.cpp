@@ -111,9 +111,14 @@ RelocOutcome CandidateTracker::decide(Frame& f, FrameSolution& sol, FrameReport&
     // A hypothesis of this frame's search that found no place in the full set was not judged.
     margin = margin && !left_out_;
     // ...and something was told apart: another candidate ruled out here, or one dropped on the
-    // way. A lone candidate never compared with anything is no evidence (simulated cave: a lone
-    // pose 89 m off, inlier ratio 0.40, survived two frames).
-    const bool compared = set_.size() > 1 || judged_ > 0;
+    // way, or on track_consistent_frames frames a search proposed another place that fit
+    // clearly worse than the set (so never joined it). A lone candidate never compared with
+    // anything is no evidence (simulated cave: a lone pose 89 m off, inlier ratio 0.40, survived
+    // two frames); one every search keeps finding, with the other places it finds clearly worse
+    // frame after frame, is (simulated cave: a lone right candidate, inlier ratio 1.00 on 16
+    // frames, its searches' other places 0.44-0.59, was never committed).
+    const bool compared =
+        set_.size() > 1 || judged_ > 0 || outranked_frames_ >= rp.track_consistent_frames;
     const bool ready = fit_ok && margin && compared && best.frames >= rp.track_min_frames;
     const bool held = carried || (ready && weakAxesHeld(f, best));
     if (!(ready && held)) {

@@ -130,7 +130,8 @@ int CandidateTracker::admit(std::vector<Attempt> standing, const std::string& tr
     // look-alike seen once (measured: the office's rooms replaced each other every frame).
     const auto& rp = params_.relocalization;
     const bool tracking = !set_.empty();
-    if (!tracking) age_ = 0, judged_ = 0;
+    if (!tracking) age_ = 0, judged_ = 0, outranked_frames_ = 0;
+    bool outranked = false;
     double best_tracked = 0;
     for (const Candidate& c : set_) best_tracked = std::max(best_tracked, c.rep.inlier_ratio);
     std::sort(standing.begin(), standing.end(),
@@ -142,7 +143,12 @@ int CandidateTracker::admit(std::vector<Attempt> standing, const std::string& tr
         if (same) continue;
         // While tracking: one that fits this scan clearly worse than the best tracked candidate
         // (under track_ratio x its inlier ratio) is no alternative.
-        if (o.rep.inlier_ratio < rp.track_ratio * best_tracked) continue;
+        // It was told apart all the same: counted below as a frame on which the set outranked
+        // another place.
+        if (o.rep.inlier_ratio < rp.track_ratio * best_tracked) {
+            outranked = true;
+            continue;
+        }
         if (static_cast<int>(set_.size()) >= rp.track_candidates) {
             // Full: the worst candidate already ruled out yields its place, else this
             // hypothesis is left out (and the frame commits nothing).
@@ -170,6 +176,7 @@ int CandidateTracker::admit(std::vector<Attempt> standing, const std::string& tr
         c.stats = o.sol.stats;
         set_.push_back(std::move(c));
     }
+    if (outranked) ++outranked_frames_;
     if (!tracking) trigger_ = trigger;
     return static_cast<int>(set_.size());
 }

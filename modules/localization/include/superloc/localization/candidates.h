@@ -78,6 +78,9 @@ class CandidateTracker {
     int dropped_ = 0, over_budget_ = 0;  ///< ...candidates it dropped, left out
     bool left_out_ = false;       ///< a hypothesis of this frame's search found the set full
     int judged_ = 0;              ///< candidates of this set dropped (lost, bad fit, ruled out)
+    /// frames on which a search proposed another place (standing: not lost) that fit clearly
+    /// worse than the best tracked candidate (under track_ratio x its inlier ratio)
+    int outranked_frames_ = 0;
 };
 
 }  // namespace superloc::localization
