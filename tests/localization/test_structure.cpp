@@ -79,16 +79,16 @@ TEST(Tracker, VerifyingPosesChangesNothingOfTheFrame) {
                 for (const ImuSample& smp : imuUpTo(m, t, t_imu[k])) sensors[k].addImu(smp);
                 Tracker& tr = *trackers[k];
                 Frame f;
-                tr.begin(scan, m.T(0.1) * kImuLidar, f, rep[k]);
-                const bool unknown = tr.velocityUnknown(f, true, rep[k]);
-                sol[k] = tr.track(f, unknown, rep[k]);
+                tr.begin(scan, m.T(0.1) * kImuLidar, f);
+                const bool unknown = tr.velocityUnknown(f, true);
+                sol[k] = tr.track(f, unknown);
+                rep[k] = FrameReport(static_cast<size_t>(i), t, sol[k].report);
                 if (k == 1) {
                     for (const double dx : {0.3, -0.6, 1.0}) {
                         fusion::FrameState start = sol[k].state;
                         start.setPose(SE3d(Eigen::Translation3d(dx, 0.5 * dx, 0)) * start.T_map_imu());
-                        FrameReport r = rep[k];
-                        const FrameSolution v = tr.solveFrom(f, start, VerifyAs::Hypothesis, r);
-                        verified += r.rounds > 0 && !v.corr.empty();
+                        const FrameSolution v = tr.solveFrom(f, start, VerifyAs::Hypothesis, rep[k].track());
+                        verified += v.report.rounds > 0 && !v.corr.empty();
                     }
                 }
                 tr.end(f, sol[k].state, sol[k], rep[k], false, false);

@@ -45,20 +45,20 @@ FusionFrame OdomAltLink::frame(bool have_prev, const SE3d& T_map_imu, const SE3d
     return f;
 }
 
-void OdomAltLink::frameDone(OdomFusion& policy, const FrameSolution& sol, const fusion::FrameState& prev,
-                            const FrameReport& rep) const {
+void OdomAltLink::frameDone(OdomFusion& policy, const FrameSolution& sol, const fusion::FrameState& prev) const {
     FusionFrame f;
     f.T_map_imu = sol.state.T_map_imu();
     f.T_prev_map_imu = prev.T_map_imu();
     f.odom_delta = sensors_.odomAltDelta(prev.t, sol.state.t);
     f.est = sol.est_weak;
     f.scan = sol.scan_weak;
-    policy.frameDone(f, rep);
+    policy.frameDone(f);
 }
 
 std::optional<fusion::RelativePosePrior> FrameFusion::prior(const std::vector<Correspondence>& corr,
                                                             const SE3d& T_map_imu, const risk::RiskReport& risk,
-                                                            FrameSolution& sol, FrameReport& rep) {
+                                                            FrameSolution& sol) {
+    TrackReport& rep = sol.report;
     frame_.corr = &corr;
     // Where is the estimate weak without odom_alt? (doc/method.md §2)
     frame_.scan_H = fusion::scanInformation(corr, T_map_imu, fusion_.scan_sigma);
@@ -82,10 +82,9 @@ std::optional<fusion::RelativePosePrior> FrameFusion::prior(const std::vector<Co
     return policy_.prior(frame_, risk);
 }
 
-SE3d FrameFusion::afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved,
-                             FrameReport& rep) {
+RoundAmend FrameFusion::afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved) {
     frame_.T_map_imu = T_round_start;
-    return policy_.afterRound(frame_, T_round_start, scan, T_solved, rep);
+    return policy_.afterRound(frame_, T_round_start, scan, T_solved);
 }
 
 }  // namespace superloc::localization

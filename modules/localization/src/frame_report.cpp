@@ -1,9 +1,9 @@
-// FrameReport (frame_report.h): the risk step's per-frame results.
+// TrackReport (frame_report.h): the risk step's per-frame results.
 #include <superloc/localization/frame_report.h>
 
 namespace superloc::localization {
 
-void FrameReport::setRisk(const risk::RiskReport& r) {
+void TrackReport::setRisk(const risk::RiskReport& r) {
     gamma = r.gamma;
     degenerate = r.degenerate;
     degenerate_axes = risk::degenerateAxes(r);

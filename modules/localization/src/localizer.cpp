@@ -32,8 +32,8 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
       tracker_(params_, variant_, sensors_, *this),
       recovery_(
           params_,
-          [this](Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r) {
-              return tracker_.solveFrom(f, start, as, r);
+          [this](Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base) {
+              return tracker_.solveFrom(f, start, as, base);
           },
           health_, sensors_, *this),
       outputs_(params.risk) {
@@ -106,24 +106,24 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     }
     const auto t_start = Clock::now();
     const double cpu_start = threadCpuMs();
-    FrameReport rep;
-    rep.index = frames_++;
-    rep.t = scan.t;
     // Steps 1-2 (Tracker): prediction and features.
     Frame& f = frame_;
-    tracker_.begin(scan, start_.firstPose(), f, rep);
+    tracker_.begin(scan, start_.firstPose(), f);
     // A frame without a pose (relocalize(), or candidates tracked) is localized by the Recovery
-    // alone; any other by the Tracker (steps 3-6: registration, fusion, report).
+    // alone; any other by the Tracker (steps 3-6: registration, fusion, covariance).
     const bool requested = recovery_.requested();
-    const bool velocity_unknown = tracker_.velocityUnknown(f, !requested, rep);
-    rep.coarse_start = velocity_unknown && variant_.registration != RegistrationKind::Ndt;
+    const bool velocity_unknown = tracker_.velocityUnknown(f, !requested);
     FrameSolution sol;
     if (requested) {
         sol.state = f.start;
-        recovery_.withoutPose(f, sol, rep);
+        sol.report = f.report;
     } else {
-        sol = tracker_.track(f, velocity_unknown, rep);
+        sol = tracker_.track(f, velocity_unknown);
     }
+    // The frame's report, from what the Tracker gave; health and the Recovery judge it below.
+    FrameReport rep(frames_++, scan.t, sol.report);
+    rep.coarse_start = velocity_unknown && tracker_.registration().traits().coarse_to_fine;
+    if (requested) recovery_.withoutPose(f, sol, rep);
     // Step 7: health (HealthMonitor), then the Recovery: a given start checked within its
     // uncertainty, a lost or doubtful frame searched (unless this frame was the search's).
     rep.imu_drift_deg = requested ? 0.0 : health_.imuDrift(rep);

@@ -65,7 +65,7 @@ std::optional<SE3d> OdomFusionActive::motion(const SE3d& odom_delta) const {
     return p_.odom_calibration ? calib_.correct(odom_delta) : odom_delta;
 }
 
-void OdomFusionActive::frameDone(const FusionFrame& f, const FrameReport&) {
+void OdomFusionActive::frameDone(const FusionFrame& f) {
     if (!p_.odom_calibration || !f.odom_delta) return;
     // Learn only where the scan alone held the axis: there the estimate is the scan's, and no
     // odom_alt prior pulled it (the prior lies along the estimate's weak directions only).
@@ -93,26 +93,29 @@ std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFram
     return p;
 }
 
-SE3d OdomFusionEigenRemap::afterRound(const FusionFrame& f, const SE3d& T_round_start,
-                                      const fusion::ScanFactor& scan, const SE3d& T_solved,
-                                      FrameReport& rep) const {
+RoundAmend OdomFusionEigenRemap::afterRound(const FusionFrame& f, const SE3d& T_round_start,
+                                            const fusion::ScanFactor& scan, const SE3d& T_solved) const {
+    RoundAmend a;
+    a.T = T_solved;
     // H at the solution with the round's IRLS weights (sigma and scale drop out: each group is
     // divided by its trace in eigenRemap).
     double wsum = 0;
     for (double w : scan.sqrtWeights()) wsum += w * w;
-    if (!(wsum > 0)) return T_solved;
+    if (!(wsum > 0)) return a;
     const Mat6d H = fusion::scanInformation(scan.correspondences(), T_solved, 1.0, &scan.sqrtWeights());
     // The reference is the frame's motion prior: the previous pose moved by odom_alt's motion
     // over the frame (odom_alt plays the visual odometry's part in Zhang et al.'s system), else
     // the round's start (the IMU or constant-velocity prediction on the first round).
     const SE3d T_ref = f.odom_delta ? SE3d(f.T_prev_map_imu * *f.odom_delta) : T_round_start;
     const auto r = fusion::eigenRemap(T_ref, T_solved, H, p_.eigen_threshold);
-    if (r.removed == 0) return T_solved;
+    if (r.removed == 0) return a;
     // Reported as a prior when odom_alt supplied the removed directions; prior_w_* = the share
     // of each axis in the removed subspace (diagonal of its projector, 0..1).
-    rep.prior_used = f.odom_delta.has_value();
-    rep.prior_weight = f.odom_delta ? r.prior_share : Vec6d::Zero();
-    return r.T;
+    a.reports_prior = true;
+    a.prior_used = f.odom_delta.has_value();
+    a.prior_weight = f.odom_delta ? r.prior_share : Vec6d::Zero();
+    a.T = r.T;
+    return a;
 }
 
 MethodVariant makeMethodVariant(Method m, const fusion::FusionParams& params, const risk::RiskParams& risk) {

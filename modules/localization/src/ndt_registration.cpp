@@ -12,7 +12,8 @@ using Clock = SteadyClock;
 NdtRegistration::NdtRegistration(const LocalizerParams& params, const AssociationParams& assoc)
     : fusion_(params.fusion), imu_(params.imu), risk_(params.risk), assoc_(assoc) {}
 
-void NdtRegistration::solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const {
+void NdtRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) const {
+    TrackReport& rep = sol.report;
     const SE3d& T_imu_lidar = p.features->T_imu_lidar;
     // The alignment risk is reported for ndt too (not used): correspondences at the start.
     auto ta = Clock::now();

@@ -11,24 +11,20 @@ void ScanFeatures::redeskew(const Scan& scan, const features::SweepMotion& m) {
     for (size_t i = 0; i < deskewed.size(); ++i) pts_body[i] = scan.T_imu_lidar * deskewed[i].cast<double>();
 }
 
-void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::FrameState& prev,
-                       const SensorHistory& sensors, const Vec3d& g_map, bool ndt, ScanFeatures& out,
-                       FrameReport& rep) {
-    rep.points_raw = scan.size();
+bool Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::FrameState& prev,
+                       const SensorHistory& sensors, const Vec3d& g_map, bool ndt, ScanFeatures& out) {
     out.T_imu_lidar = scan.T_imu_lidar;
     // NaN/range filter, one candidate per voxel, features spread evenly over the sweep.
     selector_.selectInRange(scan.points, static_cast<float>(p_.min_range), static_cast<float>(p_.max_range),
                             static_cast<float>(p_.voxel_size), out.valid, out.candidates);
     features::takeEvenly(out.candidates, static_cast<size_t>(p_.max_features), out.feature_idx);
-    rep.points_valid = out.valid.size();
-    rep.candidates = out.candidates.size();
-    rep.features = out.feature_idx.size();
     out.rel_time.clear();
     if (scan.rel_time.size() == scan.size())
         for (uint32_t i : out.feature_idx) out.rel_time.push_back(scan.rel_time[i]);
 
     // Deskew to the scan time with the predicted twist, seen from the LiDAR (doc/method.md §3).
     features::SweepMotion motion;
+    bool deskewed = false;
     const float s_min = p_.deskew && scan.rel_time.size() == scan.size() && !scan.empty()
                             ? *std::min_element(scan.rel_time.begin(), scan.rel_time.end())
                             : 0.0f;
@@ -48,7 +44,7 @@ void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::F
                     R_il.transpose() * (pred.v_body + pred.w_body.cross(scan.T_imu_lidar.translation()));
                 motion = features::SweepMotion::fromTwist(v_l, w_l, -s_min);
             }
-            rep.deskewed = true;
+            deskewed = true;
         }
     }
     features::deskewPoints(scan.points, scan.rel_time, out.feature_idx, motion, out.deskewed);
@@ -58,6 +54,7 @@ void Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::F
     // NDT registers every voxel candidate, as hdl_localization feeds it a voxelized scan.
     if (ndt) features::deskewPoints(scan.points, scan.rel_time, out.candidates, motion, out.ndt_source);
     out.motion = motion;
+    return deskewed;
 }
 
 }  // namespace superloc::localization

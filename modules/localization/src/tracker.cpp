@@ -22,6 +22,7 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
       preproc_(params.features),
       icp_(params),
       ndt_(params, icp_.association()),
+      reg_(variant.registration == RegistrationKind::Ndt ? static_cast<const Registration*>(&ndt_) : &icp_),
       odom_link_(sensors, *variant.fusion, params_.fusion, params.loc.method, log),
       post_([&] {
           Vec6d floor;
@@ -35,8 +36,10 @@ void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner*
     ndt_.setTarget(ndt);
 }
 
-void Tracker::begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameReport& rep) {
+void Tracker::begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f) {
     f.scan = &scan;
+    f.report = TrackReport{};
+    TrackReport& rep = f.report;
     f.first = !have_prev_;
     f.prev = prev_;
     // Step 1: prediction.
@@ -66,12 +69,17 @@ void Tracker::begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameR
 
     // Step 2: features.
     t0 = Clock::now();
-    preproc_.run(scan, f.pred, prev_, sensors_, g_map_, variant_.registration == RegistrationKind::Ndt, f.features,
-                 rep);
+    rep.deskewed =
+        preproc_.run(scan, f.pred, prev_, sensors_, g_map_, reg_->traits().all_candidates, f.features);
+    rep.points_raw = scan.size();
+    rep.points_valid = f.features.valid.size();
+    rep.candidates = f.features.candidates.size();
+    rep.features = f.features.feature_idx.size();
     rep.ms.preprocess = msSince(t0);
 }
 
-bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
+bool Tracker::velocityUnknown(Frame& f, bool may_measure) {
+    TrackReport& rep = f.report;
     const Scan& scan = *f.scan;
     // Unknown velocity (doc/localizer.md): the first frame, the second without IMU (no velocity
     // yet), and a constant-velocity prediction over a gap longer than max_cv_gap start coarse,
@@ -81,7 +89,7 @@ bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
                    (!f.pred.used_imu && !f.pred.from_odom &&
                     (!prev_prev_ || scan.t - prev_.t > params_.loc.max_cv_gap));
     if (unknown && !f.first && may_measure && !f.pred.used_imu && params_.loc.motion_from_last_scan &&
-        !last_scan_points_.empty() && measureMotion(f, rep)) {
+        !last_scan_points_.empty() && measureMotion(f)) {
         // Measured, not assumed: the frame is solved as a tracked one from the motion the last
         // scan gives, and checked against it.
         unknown = false;
@@ -93,24 +101,24 @@ bool Tracker::velocityUnknown(Frame& f, bool may_measure, FrameReport& rep) {
     return unknown;
 }
 
-FrameSolution Tracker::track(Frame& f, bool velocity_unknown, FrameReport& rep) {
+FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     FrameSolution sol;
     sol.state = f.start;
+    sol.report = f.report;
+    TrackReport& rep = sol.report;
     sol.corr = std::move(spare_corr_);
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
-    if (variant_.registration == RegistrationKind::Ndt) {
-        ndt_.solve(problem(f, SolvePurpose::Track, false, imu), sol, rep);
-    } else {
-        trackedSolve(f, sol, velocity_unknown, imu, rep);
-        if (velocity_unknown && wantsSweepVelocity(f.pred) && !rep.diverged) sweepVelocity(f, f.pred, imu, sol, rep);
-    }
+    const Registration::Traits how = reg_->traits();
+    trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu);
+    if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
+        sweepVelocity(f, f.pred, imu, sol);
     // Step 6: report.
-    finish(f, f.pred, velocity_unknown, sol, rep);
-    if (variant_.registration != RegistrationKind::Ndt && !rep.diverged)
-        posterior(f, sol, rep);
+    finish(f, f.pred, velocity_unknown, sol);
+    if (how.joint && !rep.diverged)
+        posterior(f, sol);
     else
-        scanCovariance(sol, rep);
+        scanCovariance(sol);
     // How long the prediction alone has carried a translation axis the scan leaves weak, counted
     // from the first frame of that stretch whose position std passed what a navigation stack
     // tolerates (HealthMonitor, doc/health.md): a stretch the covariance holds within the
@@ -139,8 +147,8 @@ Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fu
     in.setImu(est_imu ? &*est_imu : nullptr, params.imu, s);
 }
 
-void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,
-                           FrameReport& rep) {
+void Tracker::trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol, bool wide,
+                           const imu::Preintegration* imu) {
     // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve).
     FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
                        odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
@@ -151,10 +159,10 @@ void Tracker::trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::P
     fusion::FrameProblemInputs& in = w.in;
     sol.est_info = est_info_;
     sol.est_info->predict(in, params_.fusion);
-    rep.ms.risk += msSince(t_est);
+    sol.report.ms.risk += msSince(t_est);
     RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
     p.fusion = &fusion;
-    icp_.solve(p, sol, rep);
+    reg.solve(p, sol);
 }
 
 RegistrationProblem Tracker::problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const {
@@ -177,21 +185,24 @@ bool Tracker::wantsSweepVelocity(const Prediction& pred) const {
     return !pred.at_rest && params_.loc.sweep_velocity && fp.deskew && (pred.twist_from_imu || fp.deskew_without_imu);
 }
 
-FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r) {
+FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base) {
+    FrameSolution sol;
+    sol.report = base;
+    TrackReport& r = sol.report;
     r.diverged = false;
     r.diverged_reason = Divergence::None;
     r.converged = false;
     r.rounds = r.iterations = 0;
-    FrameSolution sol;
     sol.state = start;
     sol.state.t = f.scan->t;
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const Prediction* frame_pred = as == VerifyAs::FirstFrame ? &f.pred : nullptr;
     if (frame_pred) {
-        trackedSolve(f, sol, true, nullptr, r);
-        if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol, r);
+        // ICP whatever the method: a seed is verified as the hypotheses are.
+        trackedSolve(icp_, f, sol, true, nullptr);
+        if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol);
     } else {
-        icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol, r);
+        icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol);
         if (!icp_.association().voxel) {
             // Inliers measured as tracking measures them, so that the refined poses compare with
             // the frame's own solve (the two associations count inliers differently).
@@ -203,15 +214,13 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
     Prediction p = frame_pred ? *frame_pred : Prediction{};
     p.T_map_imu = start.T_map_imu();
-    finish(f, p, true, sol, r);
-    scanCovariance(sol, r);  // a verified pose: its own scan's (doc/method.md §4)
-    r.pred_dxyz = translationDistance(r.T_map_lidar, r.T_map_lidar_pred);
-    r.pred_ddeg = rotationAngle(r.T_map_lidar, r.T_map_lidar_pred) / kDeg;
+    finish(f, p, true, sol);
+    scanCovariance(sol);  // a verified pose: its own scan's (doc/method.md §4)
     return sol;
 }
 
-void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol,
-                     FrameReport& rep) const {
+void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol) const {
+    TrackReport& rep = sol.report;
     const auto& lp = params_.loc;
     const Scan& scan = *f.scan;
     // Divergence by jump: the solved pose far from the prediction (not on the first frame, whose
@@ -228,7 +237,7 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
     const SE3d T = sol.state.T_map_imu();
     // Quality at the estimate from the last association (re-querying the map here would cost
     // a whole association round; NDT has none, so it associates once).
-    if (variant_.registration == RegistrationKind::Ndt || rejected) {
+    if (!reg_->traits().correspondences_at_solution || rejected) {
         const auto t0 = Clock::now();
         associate(f.features.pts_body, T, *map_, icp_.association(), sol.corr, sol.stats);
         rep.ms.associate += msSince(t0);
@@ -308,7 +317,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     else
         post_.reset();
     if (!tracked) blind_since_.reset();
-    if (tracked && !f.first && variant_.fusion->usesOdomAlt()) odom_link_.frameDone(*variant_.fusion, sol, f.prev, rep);
+    if (tracked && !f.first && variant_.fusion->usesOdomAlt()) odom_link_.frameDone(*variant_.fusion, sol, f.prev);
     if (prev_marginal_ && params_.fusion.marginal_scale != 1.0)
         prev_marginal_->sqrt_info *= std::sqrt(params_.fusion.marginal_scale);
     have_prev_ = have_prev_ || !pending;

@@ -16,7 +16,8 @@ using Clock = SteadyClock;
 double noiseFloorShare(const LocalizerParams& p) { return std::pow(std::sin(p.risk.normal_noise_deg * kDeg), 2); }
 }  // namespace
 
-void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
+void Tracker::scanCovariance(FrameSolution& sol) const {
+    TrackReport& rep = sol.report;
     const auto t0 = Clock::now();
     const Mat6d H = fusion::informationAboveNoise(
         fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), noiseFloorShare(params_));
@@ -24,7 +25,7 @@ void Tracker::scanCovariance(const FrameSolution& sol, FrameReport& rep) const {
     rep.ms.risk += msSince(t0);
 }
 
-void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const {
+void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
     EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_);
     fusion::FrameProblemInputs& in = w.in;
@@ -37,7 +38,7 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) co
     sol.post = post_.update(in, params_.fusion, sol.scan_info,
                             sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
                             deskewedAlongImu(f));
-    rep.cov = sol.post->cov + sweepCovariance(f, sol);
+    sol.report.cov = sol.post->cov + sweepCovariance(f, sol);
 }
 
 Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {

@@ -16,7 +16,7 @@ namespace {
 using Clock = SteadyClock;
 }  // namespace
 
-bool Tracker::measureMotion(Frame& f, FrameReport& rep) {
+bool Tracker::measureMotion(Frame& f) {
     // The last scan as a small map: its voxel candidates are one point per features.voxel_size
     // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
     map::MapParams mp;
@@ -30,12 +30,12 @@ bool Tracker::measureMotion(Frame& f, FrameReport& rep) {
     sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan
     RegistrationProblem p = problem(f, SolvePurpose::LastScan, true, nullptr);
     p.map = &scan_map;
-    FrameReport r;
-    icp_.solve(p, sol, r);
+    icp_.solve(p, sol);
+    const TrackReport& r = sol.report;
     const InlierStats in = inlierStats(sol.corr, f.features.pts_body.size(), sol.state.T_map_imu(),
                                        params_.loc.inlier_dist);
-    rep.ms.associate += r.ms.associate;
-    rep.ms.solve += r.ms.solve;
+    f.report.ms.associate += r.ms.associate;
+    f.report.ms.solve += r.ms.solve;
     // Not "converged" as a criterion: the last scan's 0.5 m candidates leave the last
     // millimetres hesitant; a wrong motion is caught by the map solve's jump check.
     if (r.diverged || in.ratio < params_.loc.min_inlier_ratio) return false;
@@ -43,8 +43,8 @@ bool Tracker::measureMotion(Frame& f, FrameReport& rep) {
     return true;
 }
 
-void Tracker::sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol,
-                            FrameReport& rep) {
+void Tracker::sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol) {
+    TrackReport& rep = sol.report;
     const Scan& scan = *f.scan;
     ScanFeatures& ft = f.features;
     if (scan.rel_time.size() != scan.size() || ft.feature_idx.empty()) return;
@@ -101,7 +101,7 @@ void Tracker::sweepVelocity(Frame& f, const Prediction& pred, const imu::Preinte
         rep.ms.preprocess += msSince(t0);
         rep.deskewed = true;
         rep.rounds = 0, rep.iterations = 0;
-        trackedSolve(f, sol, /*wide=*/false, imu, rep);
+        trackedSolve(icp_, f, sol, /*wide=*/false, imu);
         rounds += rep.rounds, iterations += rep.iterations;
         if (dv.norm() < kSettled) break;
     }

@@ -28,8 +28,7 @@ class OdomAltLink {
     FusionFrame frame(bool have_prev, const SE3d& T_map_imu, const SE3d& T_prev_map_imu, double t_prev, double t);
     /// Once a tracked frame is final: the policy's frameDone (odom_alt's calibration) with the
     /// frame's final pose and the evidence of its solve.
-    void frameDone(OdomFusion& policy, const FrameSolution& sol, const fusion::FrameState& prev,
-                   const FrameReport& rep) const;
+    void frameDone(OdomFusion& policy, const FrameSolution& sol, const fusion::FrameState& prev) const;
 
    private:
     /// odom_alt's motion over the frame, logging when it is missing or a gap starts / ends
@@ -49,10 +48,8 @@ class FrameFusion final : public RoundFusion {
                 FusionFrame frame)
         : policy_(policy), fusion_(fusion), risk_(risk), frame_(std::move(frame)) {}
     std::optional<fusion::RelativePosePrior> prior(const std::vector<Correspondence>& corr, const SE3d& T_map_imu,
-                                                   const risk::RiskReport& risk, FrameSolution& sol,
-                                                   FrameReport& rep) override;
-    SE3d afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved,
-                    FrameReport& rep) override;
+                                                   const risk::RiskReport& risk, FrameSolution& sol) override;
+    RoundAmend afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved) override;
 
    private:
     const OdomFusion& policy_;

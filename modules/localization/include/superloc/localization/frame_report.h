@@ -24,9 +24,12 @@ struct StageTimes {
     double total_cpu = 0;   ///< CPU time of this thread in process() (robust to a busy machine)
 };
 
-struct FrameReport {
-    size_t index = 0;
-    double t = 0;                      ///< [s] scan time (end of sweep)
+/// What a frame's own steps give (doc/localizer.md "One frame"), as values: the prediction and
+/// the features (steps 1-2: Tracker::begin, Frame::report), then every solve's registration,
+/// fusion, quality and covariance (steps 3-6: FrameSolution::report, each solve its own copy,
+/// started from the frame's). The Localizer's FrameReport is this plus what health and the
+/// Recovery add.
+struct TrackReport {
     SE3d T_map_lidar = SE3d::Identity();
     SE3d T_map_imu = SE3d::Identity();
     SE3d T_map_lidar_pred = SE3d::Identity();  ///< the prediction the frame started from
@@ -94,9 +97,22 @@ struct FrameReport {
     double last_step_deg = 0;     ///< [deg] the last round's update (rotation)
     bool diverged = false;        ///< divergence detected (see reason)
     Divergence diverged_reason = Divergence::None;  ///< why (None when not diverged)
-    bool recovered = false;       ///< lost or in doubt, replaced by a verified relocalization
     bool used_imu = false;        ///< prediction and factor from IMU preintegration
     bool deskewed = false;
+
+    StageTimes ms;
+
+    /// Copies the risk step's per-frame results (gamma, flags, eigen diagnostics).
+    void setRisk(const risk::RiskReport& r);
+};
+
+/// The frame's report (frames.csv, doc/localizer.md "Outputs"): assembled once per frame by
+/// Localizer::process from the Tracker's TrackReport, then judged by the HealthMonitor and, when
+/// a frame is searched, replaced by the Recovery's verified pose's.
+struct FrameReport : TrackReport {
+    size_t index = 0;
+    double t = 0;                 ///< [s] scan time (end of sweep)
+    bool recovered = false;       ///< lost or in doubt, replaced by a verified relocalization
 
     // Health (health.h, doc/health.md): no ground truth involved.
     Health health = Health::Ok;
@@ -110,10 +126,13 @@ struct FrameReport {
     double imu_drift_deg = 0;
     RelocReport reloc;            ///< the relocalization run on this frame, if any
 
-    StageTimes ms;
-
-    /// Copies the risk step's per-frame results (gamma, flags, eigen diagnostics).
-    void setRisk(const risk::RiskReport& r);
+    FrameReport() = default;
+    /// Frame `index` at scan time `t` with what its own steps gave.
+    FrameReport(size_t index_, double t_, const TrackReport& track) : TrackReport(track), index(index_), t(t_) {}
+    /// The part the Tracker's steps give.
+    const TrackReport& track() const { return *this; }
+    /// A solve's result replaces the frame's own (a pose the Recovery verified).
+    void setTrack(const TrackReport& r) { static_cast<TrackReport&>(*this) = r; }
 };
 
 }  // namespace superloc::localization

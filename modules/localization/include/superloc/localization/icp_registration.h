@@ -7,16 +7,38 @@
 #include <superloc/localization/localizer_params.h>
 #include <superloc/localization/registration.h>
 
+#include <optional>
+#include <vector>
+
 namespace superloc::localization {
 
 class IcpRegistration final : public Registration {
    public:
     explicit IcpRegistration(const LocalizerParams& params);
-    void solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const override;
+    void solve(const RegistrationProblem& p, FrameSolution& sol) const override;
     /// The tracking association at the finest level (the frame's quality is measured with it).
     const AssociationParams& association() const { return assoc_; }
 
    private:
+    /// The coarse-to-fine schedule of one solve: each round's resolution (voxel level or search
+    /// radius) and robust-kernel scale, and when the solve has converged (icp_registration.cpp).
+    class Schedule;
+    /// What one round did: stopped before its solve (too few correspondences), its solve failed,
+    /// or it moved the pose by `step_xyz` [m] / `step_rad`.
+    struct Round {
+        enum class End { Solved, Sparse, Unusable } end = End::Solved;
+        double step_xyz = 0, step_rad = 0;
+    };
+    /// Round `r` of `rounds` at `s`'s resolution (steps 3-5): associate at sol's state, the risk
+    /// and the fusion's prior where `s` says, the joint solve from the window's previous state
+    /// `prev_saved`, the fusion's amendment; sol and its report get what it solved.
+    Round round(const RegistrationProblem& p, const Schedule& s, int r, int rounds, const fusion::FrameState& prev_saved,
+                std::optional<fusion::RelativePosePrior>& prior, std::vector<uint32_t>& feature_of,
+                FrameSolution& sol) const;
+    /// sol's correspondences at T with `ap` (each with its point's time in the sweep).
+    void associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap,
+                     std::vector<uint32_t>& feature_of, FrameSolution& sol) const;
+
     LocalizationParams lp_;
     fusion::FusionParams fusion_;
     imu::ImuParams imu_;

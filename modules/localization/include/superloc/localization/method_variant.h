@@ -55,6 +55,15 @@ struct FusionFrame {
     double dt = 0;  ///< [s] from the previous frame
 };
 
+/// What a round's odom_alt fusion kept (OdomFusion::afterRound): the pose, and, when it fused
+/// something into it, what it reports as the frame's prior (prior_used, prior_weight).
+struct RoundAmend {
+    SE3d T = SE3d::Identity();
+    bool reports_prior = false;
+    bool prior_used = false;
+    Vec6d prior_weight = Vec6d::Zero();
+};
+
 class OdomFusion {
    public:
     virtual ~OdomFusion() = default;
@@ -65,18 +74,20 @@ class OdomFusion {
     virtual std::optional<fusion::RelativePosePrior> prior(const FusionFrame&, const risk::RiskReport&) const {
         return std::nullopt;
     }
-    /// After a round's solve: the pose to keep (T_solved unless the policy amends it), reporting
-    /// in rep.prior_used / prior_weight what it fused. `T_round_start`: the round's start pose.
-    virtual SE3d afterRound(const FusionFrame&, const SE3d& /*T_round_start*/, const fusion::ScanFactor&,
-                            const SE3d& T_solved, FrameReport&) const {
-        return T_solved;
+    /// After a round's solve: the pose to keep (T_solved unless the policy amends it) and what it
+    /// fused into it. `T_round_start`: the round's start pose.
+    virtual RoundAmend afterRound(const FusionFrame&, const SE3d& /*T_round_start*/, const fusion::ScanFactor&,
+                                  const SE3d& T_solved) const {
+        RoundAmend a;
+        a.T = T_solved;
+        return a;
     }
     /// Without IMU: the body motion over the frame the policy predicts from odom_alt's
     /// (`odom_delta`), used instead of the constant-velocity model; empty: not used.
     virtual std::optional<SE3d> motion(const SE3d& /*odom_delta*/) const { return std::nullopt; }
     /// Once a tracked frame is final (not diverged, lost or relocalized): `f` with T_map_imu
     /// the final pose and odom_alt's motion over the frame (when the policy reads it).
-    virtual void frameDone(const FusionFrame& /*f*/, const FrameReport& /*rep*/) {}
+    virtual void frameDone(const FusionFrame& /*f*/) {}
 };
 
 /// icp, ndt: the scan alone (and the IMU).
@@ -107,7 +118,7 @@ class OdomFusionActive : public OdomFusion {
     OdomFusionActive(const fusion::ActiveFusionParams& p, const Vec6d& weak_sigma);
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
-    void frameDone(const FusionFrame& f, const FrameReport& rep) override;
+    void frameDone(const FusionFrame& f) override;
     /// odom_alt's motion, calibrated (the prediction without IMU).
     std::optional<SE3d> motion(const SE3d& odom_delta) const override;
     const fusion::OdomCalibration& calibration() const { return calib_; }
@@ -139,8 +150,8 @@ class OdomFusionEigenRemap : public OdomFusion {
    public:
     explicit OdomFusionEigenRemap(const fusion::ActiveFusionParams& p) : p_(p) {}
     bool usesOdomAlt() const override { return true; }
-    SE3d afterRound(const FusionFrame& f, const SE3d& T_round_start, const fusion::ScanFactor& scan,
-                    const SE3d& T_solved, FrameReport& rep) const override;
+    RoundAmend afterRound(const FusionFrame& f, const SE3d& T_round_start, const fusion::ScanFactor& scan,
+                          const SE3d& T_solved) const override;
 
    private:
     fusion::ActiveFusionParams p_;

@@ -16,7 +16,9 @@ class NdtRegistration final : public Registration {
     NdtRegistration(const LocalizerParams& params, const AssociationParams& assoc);
     /// The map's NDT grid (PreparedMap::ndt); set before solving.
     void setTarget(const NdtAligner* ndt) { ndt_ = ndt; }
-    void solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const override;
+    void solve(const RegistrationProblem& p, FrameSolution& sol) const override;
+    /// Every candidate, one alignment, its correspondences at the start, no joint solve.
+    Traits traits() const override { return {true, false, false, false}; }
 
    private:
     fusion::FusionParams fusion_;

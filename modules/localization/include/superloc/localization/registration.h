@@ -2,8 +2,8 @@
 // map from a start pose, with the IMU window and the odom_alt prior when they take part. One
 // interface, two implementations: IcpRegistration (coarse-to-fine association + joint solve,
 // icp_registration.h) and NdtRegistration (PCL's NDT, then the IMU window, ndt_registration.h).
-// A solve returns its result (FrameSolution) and touches nothing else: the caller keeps the
-// solution it takes.
+// A solve returns its result (FrameSolution, its report included) and touches nothing else: the
+// caller keeps the solution it takes.
 #pragma once
 
 #include <superloc/core/correspondence.h>
@@ -14,6 +14,7 @@
 #include <superloc/imu/preintegration.h>
 #include <superloc/localization/association.h>
 #include <superloc/localization/frame_report.h>
+#include <superloc/localization/method_variant.h>
 #include <superloc/localization/scan_features.h>
 #include <superloc/map/prior_map.h>
 #include <superloc/risk/alignment_risk.h>
@@ -42,7 +43,11 @@ struct FrameSolution {
     std::optional<fusion::RelativePosePrior> prior;
     /// A tracked frame's posterior (fusion::PosePosterior), committed when the frame is final.
     std::optional<fusion::PosePosterior::Update> post;
+    /// What the solve reports (risk, fusion, rounds, quality, covariance, times): the frame's
+    /// report from steps 1-2 with this solve's fields written over it.
+    TrackReport report;
 };
+
 
 /// What a solve is for. Track: this frame in the prior map (the method's registration, IMU
 /// window, odom_alt). Hypothesis: a pose of the search or a candidate verified (ICP in the voxel
@@ -56,13 +61,12 @@ class RoundFusion {
     virtual ~RoundFusion() = default;
     /// At the risk step (the first round; a wide frame's first round at the finest level too),
     /// with the round's correspondences associated at T_map_imu and their risk: the relative-pose
-    /// prior of the rounds that follow. Records its evidence in `sol` and `rep`.
+    /// prior of the rounds that follow. Records its evidence in `sol` (and its report).
     virtual std::optional<fusion::RelativePosePrior> prior(const std::vector<Correspondence>& corr,
                                                            const SE3d& T_map_imu, const risk::RiskReport& risk,
-                                                           FrameSolution& sol, FrameReport& rep) = 0;
+                                                           FrameSolution& sol) = 0;
     /// After a round's solve from T_round_start: the pose to keep (T_solved unless amended).
-    virtual SE3d afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved,
-                            FrameReport& rep) = 0;
+    virtual RoundAmend afterRound(const SE3d& T_round_start, const fusion::ScanFactor& scan, const SE3d& T_solved) = 0;
 };
 
 /// One solve's inputs. The start is FrameSolution::state of the solution passed to solve().
@@ -85,10 +89,26 @@ struct RegistrationProblem {
 class Registration {
    public:
     virtual ~Registration() = default;
+    /// What the Tracker does around this registration's solves (the only ways the two differ
+    /// outside solve()).
+    struct Traits {
+        /// registers every deskewed voxel candidate (ScanFeatures::ndt_source), not the features
+        bool all_candidates = false;
+        /// coarse to fine: a frame of unknown velocity starts wide at the coarsest level and has
+        /// its sweep velocity estimated with its pose (FrameReport::coarse_start)
+        bool coarse_to_fine = true;
+        /// its last correspondences are at the solved pose (else the frame's quality is measured
+        /// on an association there)
+        bool correspondences_at_solution = true;
+        /// the joint solve (scan, IMU window, odom_alt prior) the pose covariance's filter
+        /// follows; else the covariance is the scan's alone
+        bool joint = true;
+    };
+    virtual Traits traits() const { return {}; }
     /// Solves from sol.state (the start, at the scan's time) and leaves in `sol` the solved
-    /// state, this solve's last correspondences, their statistics and its marginal; `rep` gets
-    /// the solve's fields (risk, rounds, iterations, convergence, divergence, solve times).
-    virtual void solve(const RegistrationProblem& p, FrameSolution& sol, FrameReport& rep) const = 0;
+    /// state, this solve's last correspondences, their statistics and its marginal, and in
+    /// sol.report the solve's fields (risk, rounds, iterations, convergence, divergence, times).
+    virtual void solve(const RegistrationProblem& p, FrameSolution& sol) const = 0;
 };
 
 }  // namespace superloc::localization

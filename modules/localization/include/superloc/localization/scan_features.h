@@ -40,9 +40,10 @@ class Preprocessor {
    public:
     explicit Preprocessor(const features::FeaturesParams& p) : p_(p) {}
     /// `prev`: the previous frame's state, from which the IMU's sweep poses are integrated
-    /// (features.deskew_imu_poses); `ndt`: also deskew every candidate (method ndt).
-    void run(const Scan& scan, const Prediction& pred, const fusion::FrameState& prev, const SensorHistory& sensors,
-             const Vec3d& g_map, bool ndt, ScanFeatures& out, FrameReport& rep);
+    /// (features.deskew_imu_poses); `ndt`: also deskew every candidate (method ndt). Returns
+    /// whether the sweep was deskewed.
+    bool run(const Scan& scan, const Prediction& pred, const fusion::FrameState& prev, const SensorHistory& sensors,
+             const Vec3d& g_map, bool ndt, ScanFeatures& out);
 
    private:
     features::FeaturesParams p_;

@@ -1,13 +1,15 @@
 // The Tracker (doc/localizer.md "Structure"): one frame from its prediction to its solution, and
 // what the next frame starts from.
-//   begin     step 1 motion model (motion_model.h), step 2 features (scan_features.h)
+//   begin     step 1 motion model (motion_model.h), step 2 features (scan_features.h), into Frame
+//             (its report too)
 //   track     steps 3-6: the method's registration (registration.h) with the IMU window and the
 //             odom_alt fusion (frame_fusion.h), the sweep velocity of a frame of unknown
 //             velocity, then the frame's quality, divergence and velocity (finish)
 //   solveFrom the same registration from another start (a pose the Recovery verifies)
 //   end       the frame's final state becomes the next frame's previous one, with its marginal,
 //             its estimate information and the last scan (motion of the next frame without IMU)
-// Every solve returns a FrameSolution by value; the Tracker's own state changes in end() only.
+// Every solve returns a FrameSolution by value, its report (TrackReport) included; the Tracker's
+// own state changes in end() only.
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
@@ -40,6 +42,9 @@ struct Frame {
     fusion::FrameState start;       ///< the predicted state at the scan's time: where solves start
     fusion::FrameState prev;        ///< the previous frame's state (the IMU window's first)
     ScanFeatures features;          ///< step 2 (deskewed again by the sweep velocity)
+    /// What steps 1-2 gave (prediction, feature counts, their times): every solve of the frame
+    /// starts its own report from it.
+    TrackReport report;
 };
 
 /// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior), or as the
@@ -52,6 +57,8 @@ class Tracker {
             const mrpt::system::COutputLogger& log);
     /// The prior map (and its NDT grid, method ndt) the next frames are solved in.
     void setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt);
+    /// The method's registration (MethodVariant::registration): what every tracked solve uses.
+    const Registration& registration() const { return *reg_; }
     const map::PriorMap& map() const { return *map_; }
 
     /// A frame was placed (the next one is not a first frame).
@@ -61,21 +68,21 @@ class Tracker {
     bool restarting() const { return restart_; }
 
     /// Steps 1-2: the prediction (a first frame at `T_map_lidar0`) and the features.
-    void begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f, FrameReport& rep);
+    void begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f);
     /// Whether the frame's velocity is unknown (doc/localizer.md "Unknown velocity": a first
     /// frame, a restart, no IMU and no velocity yet or a gap over max_cv_gap). Without IMU, when
     /// `may_measure`, the motion measured against the last scan makes it known: the prediction
-    /// becomes that motion (rep.motion_from_scan).
-    bool velocityUnknown(Frame& f, bool may_measure, FrameReport& rep);
+    /// becomes that motion (f.report.motion_from_scan).
+    bool velocityUnknown(Frame& f, bool may_measure);
     /// Steps 3-6: the frame's own solve from its prediction; `velocity_unknown`: wide, from the
-    /// coarsest level, no jump check.
-    FrameSolution track(Frame& f, bool velocity_unknown, FrameReport& rep);
+    /// coarsest level, no jump check. Its report starts from f.report.
+    FrameSolution track(Frame& f, bool velocity_unknown);
     /// The frame solved again from `start` (at the scan's time), wide and with no jump check,
-    /// finished as the frame would be; `r` (a copy of the report it builds on) gets the solve's
-    /// fields. A hypothesis is solved in the voxel map without prior, its inliers measured as
-    /// tracking measures them; a start seed (VerifyAs::FirstFrame) by the frame's own
+    /// finished as the frame would be; its report is `base` (the report it builds on) with the
+    /// solve's fields. A hypothesis is solved in the voxel map without prior, its inliers
+    /// measured as tracking measures them; a start seed (VerifyAs::FirstFrame) by the frame's own
     /// registration with its sweep velocity (which deskews f's features again, as track does).
-    FrameSolution solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r);
+    FrameSolution solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base);
     /// The frame is final at `state` (its solution's, or a restart's): what the next frame starts
     /// from. `sol`: the frame's final solution (marginal, fusion evidence); `requested`: the
     /// frame was localized without a pose; `pending`: a relocalization is still asked for.
@@ -94,21 +101,21 @@ class Tracker {
     /// A solve of f's features in the map in use from f's window: a tracked one (purpose Track)
     /// with the IMU window's prior and marginal, `imu` when the frame has it.
     RegistrationProblem problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const;
-    /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state.
-    void trackedSolve(Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu, FrameReport& rep);
+    /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state,
+    /// by `reg`.
+    void trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu);
     /// Without IMU (unknown_velocity.cpp): f's features registered, wide and from no motion,
     /// against the last frame's scan; when that converges with enough inliers, the prediction
-    /// becomes the motion it measured and true is returned.
-    bool measureMotion(Frame& f, FrameReport& rep);
+    /// becomes the motion it measured and true is returned (its times in f.report).
+    bool measureMotion(Frame& f);
     /// With timed points (unknown_velocity.cpp): the sweep's translation velocity, estimated with
     /// the pose from the converged solve's correspondences (a 9-DoF Gauss-Newton step), the
     /// features deskewed again with it and the frame re-solved as a tracked one, until it settles.
-    void sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol,
-                       FrameReport& rep);
+    void sweepVelocity(Frame& f, const Prediction& pred, const imu::Preintegration* imu, FrameSolution& sol);
     bool wantsSweepVelocity(const Prediction& pred) const;
     /// Step 6: the quality at the estimate, divergence (`unchecked`: no jump check against the
     /// prediction), the velocity without IMU, the reported poses.
-    void finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol, FrameReport& rep) const;
+    void finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol) const;
 
     LocalizerParams params_;
     const MethodVariant& variant_;
@@ -118,6 +125,7 @@ class Tracker {
     Preprocessor preproc_;
     IcpRegistration icp_;
     NdtRegistration ndt_;
+    const Registration* reg_;  ///< icp_ or ndt_, by the method
     OdomAltLink odom_link_;
     std::shared_ptr<const map::PriorMap> map_;
 
@@ -151,7 +159,7 @@ class Tracker {
     std::optional<double> blind_since_;
     /// The frame's posterior (tracked frames), from its solve: what the IMU chain, odom_alt's
     /// prior and the scan give the solved state.
-    void posterior(const Frame& f, FrameSolution& sol, FrameReport& rep) const;
+    void posterior(const Frame& f, FrameSolution& sol) const;
     /// How the sensor's path departed from the one the sweep was deskewed along; none where it
     /// was deskewed along the IMU or is untimed.
     fusion::SweepDeparture sweepDeparture(const Frame& f, const fusion::FrameState& cur) const;
@@ -163,7 +171,7 @@ class Tracker {
     static bool deskewedAlongImu(const Frame& f);
     /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
     /// scan alone, above its noise floor (doc/method.md §4).
-    void scanCovariance(const FrameSolution& sol, FrameReport& rep) const;
+    void scanCovariance(FrameSolution& sol) const;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;

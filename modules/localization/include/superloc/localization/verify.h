@@ -16,7 +16,7 @@ namespace superloc::localization {
 
 /// A pose tried for the current scan and what came of it.
 struct Attempt {
-    FrameReport rep;     ///< its solve's report (built on the report it was verified from)
+    FrameReport rep;     ///< the report it was verified from, with its solve's (sol.report)
     FrameSolution sol;
     Health health = Health::Lost;  ///< the health checks on it
     HealthChecks checks;
@@ -24,8 +24,9 @@ struct Attempt {
 };
 
 /// How a pose is solved for the current scan: the Tracker's registration from `start`
-/// (Tracker::solveFrom), filling the report it is handed.
-using SolveFn = std::function<FrameSolution(Frame& f, const fusion::FrameState& start, VerifyAs as, FrameReport& r)>;
+/// (Tracker::solveFrom), its report `base` with the solve's fields.
+using SolveFn =
+    std::function<FrameSolution(Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base)>;
 
 class Verifier {
    public:
