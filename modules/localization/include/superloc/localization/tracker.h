@@ -80,8 +80,9 @@ class Tracker {
     /// The frame solved again from `start` (at the scan's time), wide and with no jump check,
     /// finished as the frame would be; its report is `base` (the report it builds on) with the
     /// solve's fields. A hypothesis is solved in the voxel map without prior, its inliers
-    /// measured as tracking measures them; a start seed (VerifyAs::FirstFrame) by the frame's own
-    /// registration with its sweep velocity (which deskews f's features again, as track does).
+    /// measured as tracking measures them; a start seed (VerifyAs::FirstFrame) as the frame's own
+    /// ICP solve is, without IMU, with its sweep velocity (which deskews f's features again, as
+    /// track does). Both by ICP whatever the method (ndt's start seeds too).
     FrameSolution solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base);
     /// The frame is final at `state` (its solution's, or a restart's): what the next frame starts
     /// from. `sol`: the frame's final solution (marginal, fusion evidence); `requested`: the
