@@ -1,4 +1,5 @@
 // TrackReport (frame_report.h): the risk step's per-frame results.
+#include <superloc/core/se3.h>
 #include <superloc/localization/frame_report.h>
 
 namespace superloc::localization {
@@ -13,6 +14,11 @@ void TrackReport::setRisk(const risk::RiskReport& r) {
     hessian_eigenvalues = r.weight_sum > 0 ? Vec6d(r.eigenvalues / r.weight_sum) : Vec6d::Zero();
     translation_eigenvalues = r.translation_eigenvalues;
     weakest_translation = r.weakest_translation;
+}
+
+void FrameReport::measurePrediction() {
+    pred_dxyz = translationDistance(T_map_lidar, T_map_lidar_pred);
+    pred_ddeg = rotationAngle(T_map_lidar, T_map_lidar_pred) / kDeg;
 }
 
 }  // namespace superloc::localization

@@ -160,8 +160,7 @@ void HealthMonitor::assess(FrameReport& r) const {
 }
 
 void HealthMonitor::assessFrame(FrameReport& rep) const {
-    rep.pred_dxyz = translationDistance(rep.T_map_lidar, rep.T_map_lidar_pred);
-    rep.pred_ddeg = rotationAngle(rep.T_map_lidar, rep.T_map_lidar_pred) / kDeg;
+    rep.measurePrediction();
     assess(rep);
 }
 

@@ -189,8 +189,8 @@ IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, cons
 void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) const {
     TrackReport& rep = sol.report;
     const map::PriorMap& map = *p.map;
-    const bool voxel = assoc_.voxel || p.purpose == SolvePurpose::Hypothesis;
-    Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), voxel, p.wide, p.purpose == SolvePurpose::Hypothesis);
+    const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
+    Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     std::vector<uint32_t> feature_of;
@@ -215,11 +215,11 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
             break;
         }
     }
-    if (voxel && sched.level() > 0 && !rep.diverged) {
+    if (sched.voxel() && sched.level() > 0 && !rep.diverged) {
         // The rounds ran out before the finest level: associate there once more so that the
         // frame's quality is measured at full resolution.
         AssociationParams ap = assoc_;
-        ap.voxel = voxel;
+        ap.voxel = true;
         associateAt(p, sol.state.T_map_imu(), ap, feature_of, sol);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();

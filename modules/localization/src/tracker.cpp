@@ -153,13 +153,15 @@ void Tracker::trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol
     FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
                        odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
     // What the estimate knows without odom_alt, carried from the last frame through the IMU
-    // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it.
-    const auto t_est = Clock::now();
-    EstimateWindow w(f.prev, sol.state, imu, params_);
-    fusion::FrameProblemInputs& in = w.in;
-    sol.est_info = est_info_;
-    sol.est_info->predict(in, params_.fusion);
-    sol.report.ms.risk += msSince(t_est);
+    // (fusion::EstimateInformation); the scan's is added at the risk step. Timed with it. Only
+    // a joint solve reads it (its fusion's prior, the posterior): not ndt.
+    if (reg.traits().joint) {
+        const auto t_est = Clock::now();
+        EstimateWindow w(f.prev, sol.state, imu, params_);
+        sol.est_info = est_info_;
+        sol.est_info->predict(w.in, params_.fusion);
+        sol.report.ms.risk += msSince(t_est);
+    }
     RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
     p.fusion = &fusion;
     reg.solve(p, sol);

@@ -1,5 +1,4 @@
 // Verifier: a pose tried for the current scan, solved and judged (verify.h).
-#include <superloc/core/se3.h>
 #include <superloc/localization/verify.h>
 
 namespace superloc::localization {
@@ -9,8 +8,7 @@ Attempt Verifier::verify(Frame& f, const fusion::FrameState& start, const FrameR
     a.rep = base;
     a.sol = solve_(f, start, as, base.track());
     a.rep.setTrack(a.sol.report);
-    a.rep.pred_dxyz = translationDistance(a.rep.T_map_lidar, a.rep.T_map_lidar_pred);
-    a.rep.pred_ddeg = rotationAngle(a.rep.T_map_lidar, a.rep.T_map_lidar_pred) / kDeg;
+    a.rep.measurePrediction();
     a.health = health_.classify(a.rep, &a.why, &a.checks);
     return a;
 }

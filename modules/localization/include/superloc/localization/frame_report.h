@@ -133,6 +133,8 @@ struct FrameReport : TrackReport {
     const TrackReport& track() const { return *this; }
     /// A solve's result replaces the frame's own (a pose the Recovery verified).
     void setTrack(const TrackReport& r) { static_cast<TrackReport&>(*this) = r; }
+    /// pred_dxyz, pred_ddeg: the reported pose against the prediction it started from.
+    void measurePrediction();
 };
 
 }  // namespace superloc::localization

@@ -18,7 +18,14 @@ class NdtRegistration final : public Registration {
     void setTarget(const NdtAligner* ndt) { ndt_ = ndt; }
     void solve(const RegistrationProblem& p, FrameSolution& sol) const override;
     /// Every candidate, one alignment, its correspondences at the start, no joint solve.
-    Traits traits() const override { return {true, false, false, false}; }
+    Traits traits() const override {
+        Traits t;
+        t.all_candidates = true;
+        t.coarse_to_fine = false;
+        t.correspondences_at_solution = false;
+        t.joint = false;
+        return t;
+    }
 
    private:
     fusion::FusionParams fusion_;

@@ -48,7 +48,6 @@ struct FrameSolution {
     TrackReport report;
 };
 
-
 /// What a solve is for. Track: this frame in the prior map (the method's registration, IMU
 /// window, odom_alt). Hypothesis: a pose of the search or a candidate verified (ICP in the voxel
 /// map whatever the tracking association, no IMU, no odom_alt). LastScan: the motion since the
