@@ -218,6 +218,25 @@ TEST(AlignmentRisk, TranslationEigenDiagnostics) {
     EXPECT_GT(rt.weakest_translation.x(), 0.0);  // sign convention: largest component positive
 }
 
+// The information C = sum w J J^T is the sum Eigen's rank-one update makes, bit for bit (the
+// risk writes the 6 x 6 update out for speed; the solve's weighting reads the same H, so any
+// change of its arithmetic would move every trajectory: doc/results.md "Cost of the risk").
+TEST(AlignmentRisk, HessianIsEigensRankUpdateBitForBit) {
+    auto cs = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}}, 90, 16);
+    for (size_t i = 0; i < cs.size(); ++i) cs[i].weight = 0.3 + 0.7 * std::sin(0.37 * static_cast<double>(i)) * std::sin(0.37 * static_cast<double>(i));
+    RiskParams prm;
+    prm.keep_jacobians = true;
+    const auto r = computeAlignmentRisk(cs, SE3d::Identity(), Vec3d(0.1, -0.2, 0.05), prm);
+    ASSERT_EQ(r.jacobians.size(), cs.size());
+    Mat6d H = Mat6d::Zero();
+    for (size_t i = 0; i < cs.size(); ++i)
+        if (r.translation_label[i] != kNoLabel) H.selfadjointView<Eigen::Lower>().rankUpdate(r.jacobians[i], cs[i].weight);
+    H = H.selfadjointView<Eigen::Lower>();
+    for (int i = 0; i < 6; ++i)
+        for (int k = 0; k < 6; ++k) EXPECT_EQ(r.hessian(i, k), H(i, k)) << i << "," << k;
+    EXPECT_GT(H.trace(), 100.0);
+}
+
 // A 12 x 9 x 3 m room, sensor off-centre: nothing degenerate, and a well-conditioned Hessian.
 TEST_P(SceneTest, BoxRoomHasNoDegenerateAxis) {
     const auto cs = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}});

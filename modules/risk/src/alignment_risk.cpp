@@ -76,6 +76,17 @@ void eigenRule(const Eigen::Matrix3d& block, int first, double threshold, std::a
     for (int k = 0; k < 3; ++k) flags[first + k] = P(k, k) >= 0.5;
 }
 
+/// H's lower triangle += w J J^T. The products and sums of Eigen's rankUpdate on the lower
+/// triangle (column i: (w J_i) J_k for k >= i), so the result is bit-identical, written out for a
+/// 6 x 6: Eigen's general path sized at run time was 11 % of the per-frame risk and weighting
+/// (doc/results.md "Cost of the risk and the weighting").
+void addLowerRankOne(Mat6d& H, const Vec6d& J, double w) {
+    for (int i = 0; i < 6; ++i) {
+        const double a = w * J[i];
+        for (int k = i; k < 6; ++k) H(k, i) += a * J[k];
+    }
+}
+
 }  // namespace
 
 bool RiskReport::anyDegenerate() const {
@@ -135,7 +146,7 @@ RiskReport computeAlignmentRisk(const std::vector<Correspondence>& correspondenc
         J << normal, torque;
         if (params.keep_jacobians) r.jacobians[i] = J;
         // Paper eq. (5)-(6): C = sum J_i J_i^T (weighted like the labels).
-        if (params.hessian_eigen) r.hessian.selfadjointView<Eigen::Lower>().rankUpdate(J, w);
+        if (params.hessian_eigen) addLowerRankOne(r.hessian, J, w);
         r.weight_sum += w;
     }
 
