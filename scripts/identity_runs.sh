@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A refactoring's regression harness: the same 17 localizer runs with two builds, then every
+# A refactoring's regression harness: the same 18 localizer runs with two builds, then every
 # output compared (frames.csv but its ms_* times, trajectory.tum, trajectory_cov.txt) by
 # scripts/identity_compare.py. The runs cover the six methods, no IMU, --initial-pose auto (the
 # global search and tracked candidates), the README's KITTI split and corridor, a 70 s cave and
@@ -28,9 +28,11 @@ fi
 [[ -f $D/cave/sequence.rawlog ]] || "$BIN/superloc-sim" "$ROOT/ini/sim/cave.ini" --out "$D/cave" --seed 1
 [[ -f $D/office/sequence.rawlog ]] || "$BIN/superloc-sim" "$ROOT/ini/sim/office.ini" --out "$D/office" --seed 1
 
-run() {
+run() {  # name [--ini FILE] args...
   local name=$1; shift
-  if "$BIN/superloc-localize" "$ROOT/ini/localize.ini" --quiet "$@" --out "$OUT/$name" > "$OUT/$name.log" 2>&1
+  local ini=$ROOT/ini/localize.ini
+  if [[ ${1:-} == --ini ]]; then ini=$2; shift 2; fi
+  if "$BIN/superloc-localize" "$ini" --quiet "$@" --out "$OUT/$name" > "$OUT/$name.log" 2>&1
   then echo "$name: ok"; else echo "$name: exit $?"; fi
 }
 T=$ROOT/rawlogs
@@ -45,6 +47,8 @@ run kitti-voxel "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")" --set loc
   --set localization.rounds=10
 run kitti-nearest "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")"
 run kitti-auto "${K[@]}" --initial-pose auto
+# The driving INI (tests/e2e's perturbed start): the start check ties and takes a rival, then searches.
+run kitti-ini --ini "$ROOT/ini/localize-kitti.ini" "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")"
 C=(--rawlog "$D/corridor/sequence.rawlog" --map "$D/corridor/prior_map.pcd" --initial-pose-tum "$D/corridor/gt_tum.txt")
 run corr-superloc "${C[@]}"
 run corr-ndt "${C[@]}" --method ndt

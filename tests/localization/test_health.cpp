@@ -88,7 +88,7 @@ TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
     EXPECT_EQ(h.classify(r), Health::Ok);
     for (double v : {0.9, 0.92, 0.88, 0.91}) {
         FrameReport t = tracked(v);
-        h.assess(t);
+        t.setVerdict(h.judge()(t));
         EXPECT_EQ(t.health, Health::Ok);
         h.commit(t, false);
     }
@@ -100,13 +100,13 @@ TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
     EXPECT_EQ(h.classify(tracked(0.5), &why), Health::Lost);            // < 0.6 x 0.91
     // A degraded frame does not pull the reference down.
     FrameReport low = tracked(0.7);
-    h.assess(low);
+    low.setVerdict(h.judge()(low));
     EXPECT_EQ(low.health, Health::Degraded);
     h.commit(low, false);
     EXPECT_NEAR(h.reference(), 0.91, 1e-9);
-    // Assessing changes nothing of the monitor: only commit() does, once per frame.
-    FrameReport again = tracked(0.95);
-    for (int k = 0; k < 5; ++k) h.assess(again);
+    // Judging changes nothing of the monitor: only commit() does, once per frame.
+    const FrameReport again = tracked(0.95);
+    for (int k = 0; k < 5; ++k) EXPECT_EQ(h.judge()(again).health, Health::Ok);
     EXPECT_NEAR(h.reference(), 0.91, 1e-9);
 }
 
@@ -224,52 +224,58 @@ TEST(Health, DriftAlongTheChainOfImuPredictedFrames) {
     EXPECT_EQ(h.imuDrift(next), 0.0);
 }
 
-// The HealthMonitor is the only writer of a frame's health: the Recovery hands it evidence, and
-// each piece changes only what it says (an `ok` frame becomes degraded for a doubt or a tie at
-// the start; a degraded one keeps its own reasons; a confirmation undoes only an "unconfirmed").
+// The health checks alone make a frame's health: the Recovery hands them evidence, and each
+// piece changes only what it says (an `ok` frame becomes degraded for a doubt or a tie at the
+// start; a degraded one keeps its own reasons; a confirmation undoes only an "unconfirmed"). A
+// frame without a pose is lost by its report (no_pose).
 TEST(Health, EvidenceFromTheRecovery) {
     HealthMonitor h;
-    FrameReport ok = tracked(0.9);
-    h.assessFrame(ok);
+    const HealthJudge judge = h.judge();
+    const Verdict ok = judge(tracked(0.9));
     ASSERT_EQ(ok.health, Health::Ok);
-    FrameReport weak = tracked(0.9);  // degraded for its own reason: a pose std of 20 cm
-    weak.cov.diagonal() << 0.2 * 0.2, 0.01 * 0.01, 0.01 * 0.01, 1e-6, 1e-6, 1e-6;
-    h.assessFrame(weak);
+    FrameReport weak_rep = tracked(0.9);  // degraded for its own reason: a pose std of 20 cm
+    weak_rep.cov.diagonal() << 0.2 * 0.2, 0.01 * 0.01, 0.01 * 0.01, 1e-6, 1e-6, 1e-6;
+    const Verdict weak = judge(weak_rep);
     ASSERT_EQ(weak.health, Health::Degraded);
 
-    FrameReport r = ok;
-    h.amend(r, HealthEvidence::NoPose);
-    EXPECT_EQ(r.health, Health::Lost);
+    FrameReport no_pose = tracked(0.9);
+    no_pose.diverged = true;
+    no_pose.diverged_reason = Divergence::NoPose;
+    EXPECT_EQ(judge(no_pose).health, Health::Lost);
+    EXPECT_EQ(judge(no_pose).reason, "no_pose");
 
-    r = ok;
-    h.amend(r, HealthEvidence::Unconfirmed);
+    Verdict r = judge.amend(ok, HealthEvidence::Unconfirmed);
     EXPECT_EQ(r.health, Health::Degraded);
-    EXPECT_EQ(r.health_reason, "unconfirmed");
+    EXPECT_EQ(r.reason, "unconfirmed");
     EXPECT_TRUE(r.checks.unconfirmed);
-    h.amend(r, HealthEvidence::Confirmed);
+    r = judge.amend(r, HealthEvidence::Confirmed);
     EXPECT_EQ(r.health, Health::Ok);
-    EXPECT_EQ(r.health_reason, "");
+    EXPECT_EQ(r.reason, "");
     EXPECT_FALSE(r.checks.unconfirmed);
 
-    r = weak;
-    h.amend(r, HealthEvidence::Unconfirmed);
-    EXPECT_EQ(r.health_reason, "sigma_xyz") << "a degraded frame keeps its own reasons";
-    h.amend(r, HealthEvidence::Confirmed);
+    r = judge.amend(weak, HealthEvidence::Unconfirmed);
+    EXPECT_EQ(r.reason, "sigma_xyz") << "a degraded frame keeps its own reasons";
+    r = judge.amend(r, HealthEvidence::Confirmed);
     EXPECT_EQ(r.health, Health::Degraded) << "only an unconfirmed frame is confirmed back to ok";
 
-    r = ok;
-    h.amend(r, HealthEvidence::StartAmbiguous);
+    r = judge.amend(ok, HealthEvidence::StartAmbiguous);
     EXPECT_EQ(r.health, Health::Degraded);
-    EXPECT_EQ(r.health_reason, "start_ambiguous");
-    r = weak;
-    h.amend(r, HealthEvidence::StartAmbiguous);
-    EXPECT_EQ(r.health_reason, "sigma_xyz");
+    EXPECT_EQ(r.reason, "start_ambiguous");
+    r = judge.amend(weak, HealthEvidence::StartAmbiguous);
+    EXPECT_EQ(r.reason, "sigma_xyz");
 
-    // assessFrame measures the solved pose against the prediction first.
+    // A report put into the frame's: the verdict's fields.
+    FrameReport out = tracked(0.9);
+    out.setVerdict(judge.amend(ok, HealthEvidence::Unconfirmed));
+    EXPECT_EQ(out.health, Health::Degraded);
+    EXPECT_EQ(out.health_reason, "unconfirmed");
+    EXPECT_TRUE(out.checks.unconfirmed);
+
+    // The prediction check reads the solved pose against the prediction, as measured.
     FrameReport moved = tracked(0.9);
     moved.used_imu = true;
     moved.T_map_lidar_pred.translation() = Vec3d(0.4, 0, 0);
-    h.assessFrame(moved);
+    moved.measurePrediction();
     EXPECT_NEAR(moved.pred_dxyz, 0.4, 1e-12);
-    EXPECT_EQ(moved.health_reason, "prediction");
+    EXPECT_EQ(judge(moved).reason, "prediction");
 }

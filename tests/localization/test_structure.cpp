@@ -9,7 +9,12 @@
 #include <superloc/localization/start_pose.h>
 #include <superloc/localization/tracker.h>
 
+#include <filesystem>
+#include <fstream>
+#include <cctype>
 #include <memory>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -91,7 +96,7 @@ TEST(Tracker, VerifyingPosesChangesNothingOfTheFrame) {
                         verified += v.report.rounds > 0 && !v.corr.empty();
                     }
                 }
-                tr.end(f, sol[k].state, sol[k], rep[k], false, false);
+                tr.end(f, sol[k].state, sol[k], rep[k], false, false, false);
             }
             const std::string at = (use_imu ? "IMU, frame " : "no IMU, frame ") + std::to_string(i);
             EXPECT_EQ(rep[0].T_map_lidar.matrix(), rep[1].T_map_lidar.matrix()) << at;
@@ -201,4 +206,51 @@ TEST(StartPose, InitialPoseResolvedInOnePlace) {
     EXPECT_EQ(StartPose::seeds(T0, rp).size(), 8u);
     rp.start_xyz = rp.start_deg = 0;
     EXPECT_TRUE(StartPose::seeds(T0, rp).empty());
+}
+
+// The frame's state has one writer (doc/localizer.md "Structure"), read off the sources of
+// modules/localization: no function but Localizer::process (localizer.cpp) takes a writable
+// FrameReport; the Recovery and its helpers hold no Tracker and no HealthMonitor; a health is
+// assigned only from a Verdict (FrameReport::setVerdict) made by the health checks (health.cpp).
+TEST(Structure, OneWriterOfTheFrameReport) {
+    namespace fs = std::filesystem;
+    const fs::path root = fs::path(SUPERLOC_SOURCE_DIR) / "modules" / "localization";
+    const auto read = [](const fs::path& p) {
+        std::ifstream in(p);
+        std::stringstream ss;
+        ss << in.rdbuf();
+        return ss.str();
+    };
+    size_t files = 0;
+    const std::regex writable(R"((^|[^\w])FrameReport\s*&)");
+    const std::regex health_set(R"((\.|->|\b)health\s*=[^=])");
+    for (const auto& e : fs::recursive_directory_iterator(root)) {
+        if (!e.is_regular_file()) continue;
+        const std::string name = e.path().filename().string();
+        if (e.path().extension() != ".h" && e.path().extension() != ".cpp") continue;
+        ++files;
+        const std::string text = read(e.path());
+        std::istringstream lines(text);
+        std::string line;
+        int n = 0;
+        while (std::getline(lines, line)) {
+            ++n;
+            const auto code = line.substr(0, line.find("//"));
+            for (auto it = std::sregex_iterator(code.begin(), code.end(), writable); it != std::sregex_iterator(); ++it) {
+                std::string before = code.substr(0, code.find("FrameReport", static_cast<size_t>(it->position())));
+                while (!before.empty() && std::isspace(static_cast<unsigned char>(before.back()))) before.pop_back();
+                const bool is_const = before.size() >= 5 && before.compare(before.size() - 5, 5, "const") == 0;
+                if (!is_const && name != "localizer.cpp")
+                    ADD_FAILURE() << name << ":" << n << ": a writable FrameReport: " << line;
+            }
+            if (std::regex_search(code, health_set) && name != "health.cpp" && name != "frame_report.h" &&
+                code.find("HealthParams") == std::string::npos && code.find("Health health") == std::string::npos)
+                ADD_FAILURE() << name << ":" << n << ": a health assigned outside the health checks: " << line;
+        }
+        if (name == "recovery.h" || name == "verify.h" || name == "candidates.h") {
+            for (const char* held : {"HealthMonitor&", "HealthMonitor &", "Tracker&", "Tracker &"})
+                EXPECT_EQ(text.find(held), std::string::npos) << name << " holds a " << held;
+        }
+    }
+    EXPECT_GT(files, 40u) << root;
 }

@@ -12,7 +12,7 @@ namespace {
 using mrpt::system::LVL_DEBUG;
 }  // namespace
 
-bool CandidateTracker::weakAxesHeld(Frame& f, const Candidate& c) {
+bool CandidateTracker::weakAxesHeld(Frame& f, const Candidate& c, const HealthJudge& judge) {
     // A translation the scan constrains weakly (gamma below weak_gamma: the risk, before the
     // solve) may still be held at the scale of the candidates: probe it. The candidate is moved
     // track_probe_xyz along each weak axis, both ways, and verified again; the axis is held when
@@ -26,7 +26,7 @@ bool CandidateTracker::weakAxesHeld(Frame& f, const Candidate& c) {
         for (const double sign : {-1.0, 1.0}) {
             fusion::FrameState start = c.state;
             start.setPose(SE3d(Eigen::Translation3d(T_c.linear().col(k) * sign * rp.track_probe_xyz)) * T_c);
-            const Attempt a = verifier_.verify(f, start, c.rep, VerifyAs::Hypothesis);
+            const Attempt a = verifier_.verify(f, start, c.rep, VerifyAs::Hypothesis, judge);
             const FrameReport& r = a.rep;
             const double back = translationDistance(r.T_map_lidar, c.rep.T_map_lidar);
             const bool worse = r.diverged || r.inlier_ratio < rp.track_ratio * c.rep.inlier_ratio;
@@ -38,11 +38,11 @@ bool CandidateTracker::weakAxesHeld(Frame& f, const Candidate& c) {
     return true;
 }
 
-RelocOutcome CandidateTracker::decide(Frame& f, FrameSolution& sol, FrameReport& rep) {
+RecoveryDecision CandidateTracker::decide(Frame& f, const FrameReport& rep, const RelocReport& searched,
+                                          const HealthJudge& judge) {
     const auto& rp = params_.relocalization;
-    const double ref = verifier_.health().reference();
-    // What a search on this frame did (merged its hypotheses into the set), if one ran.
-    const RelocReport searched = rep.reloc;
+    const double ref = judge.reference();
+    RecoveryDecision d;
     RelocReport rr;
     rr.mode = "track";
     rr.trigger = trigger_;
@@ -55,8 +55,9 @@ RelocOutcome CandidateTracker::decide(Frame& f, FrameSolution& sol, FrameReport&
     rr.verified = rr.candidates = static_cast<int>(set_.size());
     if (set_.empty()) {
         rr.detail = mrpt::format("candidates_dropped:%d", dropped_) + budget;
-        rep.reloc = rr;
-        return rr.outcome;
+        d.outcome = rr.outcome;
+        d.reloc = rr;
+        return d;
     }
     // The best: the highest mean inlier ratio over its frames.
     const auto mean = [](const Candidate& c) { return c.evidence / c.frames; };
@@ -120,7 +121,7 @@ RelocOutcome CandidateTracker::decide(Frame& f, FrameSolution& sol, FrameReport&
     const bool compared =
         set_.size() > 1 || judged_ > 0 || outranked_frames_ >= rp.track_consistent_frames;
     const bool ready = fit_ok && margin && compared && best.frames >= rp.track_min_frames;
-    const bool held = carried || (ready && weakAxesHeld(f, best));
+    const bool held = carried || (ready && weakAxesHeld(f, best, judge));
     if (!(ready && held)) {
         // Candidates ruled out stay tracked (the next searches find their places again: a
         // judged place must not come back as a new, unjudged candidate), but yield their places
@@ -131,34 +132,34 @@ RelocOutcome CandidateTracker::decide(Frame& f, FrameSolution& sol, FrameReport&
                     (compared ? "" : "+alone") + (margin ? "" : mrpt::format("+margin:%.3f", rr.evidence_ratio)) +
                     (left_out_ ? "+full" : "") + budget;
         // Lost all the same, reporting the best candidate's pose.
-        rep.T_map_lidar = best.rep.T_map_lidar;
-        rep.T_map_imu = best.rep.T_map_imu;
-        rep.reloc = rr;
+        d.shown = RecoveryDecision::Shown{best.rep.T_map_lidar, best.rep.T_map_imu};
         if (age_ >= rp.track_max_frames) {
             // Not settled in that many frames: the right pose may not be in the set at all.
             set_.clear();
-            rep.reloc.detail += "+expired";
-            rep.reloc.candidates = 0;
+            rr.detail += "+expired";
+            rr.candidates = 0;
         }
-        return rr.outcome;
+        d.outcome = rr.outcome;
+        d.reloc = rr;
+        return d;
     }
-    sol = FrameSolution{};
+    FrameSolution sol;
     sol.state = best.state;
     sol.corr = best.corr;
     sol.stats = best.stats;
+    sol.report = best.rep.track();
     rr.outcome = RelocOutcome::Accepted;
     rr.detail = mrpt::format("frames:%d", best.frames) + budget;
-    const StageTimes ms = rep.ms;
-    rep = best.rep;
-    rep.ms = ms;
-    rep.reloc = rr;
-    rep.recovered = true;
     log_.logFmt(mrpt::system::LVL_INFO,
                 "frame %zu (t=%.3f): relocalized by tracking %zu candidates over %d frames (evidence ratio %.3f, "
                 "%.0f ms), inlier ratio %.2f",
-                rep.index, rep.t, set_.size(), best.frames, rr.evidence_ratio, rr.verify_ms, rep.inlier_ratio);
+                rep.index, rep.t, set_.size(), best.frames, rr.evidence_ratio, rr.verify_ms, best.rep.inlier_ratio);
+    d.taken = std::move(sol);
+    d.recovered = true;
+    d.outcome = rr.outcome;
+    d.reloc = rr;
     set_.clear();
-    return rr.outcome;
+    return d;
 }
 
 }  // namespace superloc::localization

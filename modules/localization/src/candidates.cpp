@@ -19,7 +19,7 @@ std::vector<const FrameReport*> CandidateTracker::reports() const {
     return out;
 }
 
-void CandidateTracker::refine(Frame& f, FrameReport& rep) {
+double CandidateTracker::refine(Frame& f, const FrameReport& rep, const HealthJudge& judge) {
     const auto& rp = params_.relocalization;
     const Scan& scan = *f.scan;
     const Vec3d g_map(0, 0, -params_.imu.gravity);
@@ -66,17 +66,17 @@ void CandidateTracker::refine(Frame& f, FrameReport& rep) {
         FrameReport base = rep;
         base.used_imu = imu_predicted;
         base.T_map_lidar_pred = T_pred * scan.T_imu_lidar;
-        Attempt a = verifier_.verify(f, start, base, VerifyAs::Hypothesis);
+        Attempt a = verifier_.verify(f, start, base, VerifyAs::Hypothesis, judge);
         const FrameReport& r = a.rep;
         const Vec3d& x = r.T_map_lidar.translation();
         log_.logFmt(LVL_DEBUG,
                     "candidate (evidence %.3f over %d) -> (%.2f %.2f %.2f), moved %.2f m from its prediction, "
                     "inliers %.3f, %s %s",
-                    c.evidence, c.frames, x.x(), x.y(), x.z(), r.pred_dxyz, r.inlier_ratio, healthName(a.health),
-                    a.why.c_str());
+                    c.evidence, c.frames, x.x(), x.y(), x.z(), r.pred_dxyz, r.inlier_ratio,
+                    healthName(a.verdict.health), a.verdict.reason.c_str());
         // Dropped when it no longer explains the scan: lost, or fitting clearly worse than
         // tracking fits on this map (the run's reference).
-        if (a.health == Health::Lost || a.checks.badFit()) {
+        if (a.verdict.health == Health::Lost || a.verdict.checks.badFit()) {
             ++dropped_;
             ++judged_;
             continue;
@@ -104,15 +104,14 @@ void CandidateTracker::refine(Frame& f, FrameReport& rep) {
         c.evidence += r.inlier_ratio;
         c.history.push_back(r.inlier_ratio);
         ++c.frames;
-        c.checks = a.checks;
-        for (int k = 0; k < 3; ++k) c.axis_held[k] = !a.checks.weak[k] || (measured && c.axis_held[k]);
+        c.checks = a.verdict.checks;
+        for (int k = 0; k < 3; ++k) c.axis_held[k] = !c.checks.weak[k] || (measured && c.axis_held[k]);
         c.rep = std::move(a.rep);
         c.corr = std::move(a.sol.corr);
         c.stats = a.sol.stats;
         kept.push_back(std::move(c));
     }
     track_ms_ = msSince(t0);
-    rep.ms.solve += track_ms_;
     // Candidates that converged onto the same pose are one (the better evidence stays).
     std::sort(kept.begin(), kept.end(), [](const Candidate& a, const Candidate& b) { return a.evidence > b.evidence; });
     set_.clear();
@@ -122,6 +121,7 @@ void CandidateTracker::refine(Frame& f, FrameReport& rep) {
         });
         if (!same) set_.push_back(std::move(c));
     }
+    return track_ms_;
 }
 
 int CandidateTracker::admit(std::vector<Attempt> standing, const std::string& trigger) {
@@ -169,7 +169,7 @@ int CandidateTracker::admit(std::vector<Attempt> standing, const std::string& tr
         c.evidence = o.rep.inlier_ratio;
         c.history.push_back(o.rep.inlier_ratio);
         c.frames = 1;
-        c.checks = o.checks;
+        c.checks = o.verdict.checks;
         for (int k = 0; k < 3; ++k) c.axis_held[k] = !c.checks.weak[k];
         c.rep = o.rep;
         c.corr = o.sol.corr;

@@ -93,9 +93,9 @@ void HealthParams::validate() const {
     if (!(max_drift_deg > 0)) throw ConfigError("[health] max_drift_deg must be > 0");
 }
 
-bool HealthMonitor::notConverged(const FrameReport& r) const {
+bool HealthJudge::notConverged(const FrameReport& r) const {
     return !r.converged &&
-           (r.final_level > 0 || r.last_step_xyz > p_.settled_xyz || r.last_step_deg > p_.settled_deg);
+           (r.final_level > 0 || r.last_step_xyz > p_->settled_xyz || r.last_step_deg > p_->settled_deg);
 }
 
 double HealthMonitor::reference() const {
@@ -105,34 +105,39 @@ double HealthMonitor::reference() const {
     return v[v.size() / 2];
 }
 
-HealthChecks HealthMonitor::check(const FrameReport& r, double ref) const {
+HealthChecks HealthJudge::check(const FrameReport& r) const {
+    const HealthParams& p = *p_;
+    const double ref = reference_;
     HealthChecks c;
     // As health_reason says: a diverged frame is lost for that alone, a frame lost by its
     // inliers for those alone; only a frame that stands has its other checks made.
     c.diverged = r.diverged && r.diverged_reason != Divergence::JumpRejected;
     if (c.diverged) return c;
-    c.inliers_lost = ref > 0 && r.inlier_ratio < p_.lost_inlier_drop * ref;
+    c.inliers_lost = ref > 0 && r.inlier_ratio < p.lost_inlier_drop * ref;
     if (c.inliers_lost) return c;
     c.jump_rejected = r.diverged;  // the IMU prediction was kept
-    c.inliers = ref > 0 && r.inlier_ratio < p_.degraded_inlier_drop * ref;
+    c.inliers = ref > 0 && r.inlier_ratio < p.degraded_inlier_drop * ref;
     c.not_converged = notConverged(r);
-    for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p_.weak_gamma;
+    for (int k = 0; k < 6; ++k) c.weak[k] = r.gamma[k] < p.weak_gamma;
     // The pose's std: the largest over directions (the covariance's largest eigenvalue per
     // group); a frame without a covariance (zero) passes.
-    c.sigma_xyz = fusion::largestStd(r.cov.topLeftCorner<3, 3>()) > p_.max_sigma_xyz;
-    c.sigma_rot = fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) > p_.max_sigma_deg * kDeg;
-    c.dead_reckoning = r.dead_reckoning_s > p_.max_dead_reckoning_s;
-    c.prediction = r.used_imu && (r.pred_dxyz > p_.max_pred_xyz || r.pred_ddeg > p_.max_pred_deg);
-    c.drift = r.used_imu && p_.drift_window > 0 && r.imu_drift_deg > p_.max_drift_deg;
+    c.sigma_xyz = fusion::largestStd(r.cov.topLeftCorner<3, 3>()) > p.max_sigma_xyz;
+    c.sigma_rot = fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) > p.max_sigma_deg * kDeg;
+    c.dead_reckoning = r.dead_reckoning_s > p.max_dead_reckoning_s;
+    c.prediction = r.used_imu && (r.pred_dxyz > p.max_pred_xyz || r.pred_ddeg > p.max_pred_deg);
+    c.drift = r.used_imu && p.drift_window > 0 && r.imu_drift_deg > p.max_drift_deg;
     return c;
 }
 
-Health HealthMonitor::classify(const FrameReport& r, std::string* reason, HealthChecks* checks) const {
-    const HealthChecks c = check(r, reference());
-    if (checks) *checks = c;
-    std::string why;
+Verdict HealthJudge::operator()(const FrameReport& r) const {
+    Verdict v;
+    v.inlier_reference = reference_;
+    v.checks = check(r);
+    const HealthChecks& c = v.checks;
+    std::string& why = v.reason;
     const auto add = [&why](const std::string& s) { why += (why.empty() ? "" : "+") + s; };
-    Health h = Health::Ok;
+    Health& h = v.health;
+    h = Health::Ok;
     if (c.diverged) {
         add(r.diverged_reason == Divergence::None ? "diverged" : divergenceName(r.diverged_reason));
         h = Health::Lost;
@@ -150,41 +155,37 @@ Health HealthMonitor::classify(const FrameReport& r, std::string* reason, Health
         if (c.drift) add("drift");
         if (!why.empty()) h = Health::Degraded;
     }
-    if (reason) *reason = why;
-    return h;
+    return v;
 }
 
-void HealthMonitor::assess(FrameReport& r) const {
-    r.inlier_reference = reference();
-    r.health = classify(r, &r.health_reason, &r.checks);
+Health HealthMonitor::classify(const FrameReport& r, std::string* reason, HealthChecks* checks) const {
+    const Verdict v = judge()(r);
+    if (reason) *reason = v.reason;
+    if (checks) *checks = v.checks;
+    return v.health;
 }
 
-void HealthMonitor::assessFrame(FrameReport& rep) const {
-    rep.measurePrediction();
-    assess(rep);
-}
-
-void HealthMonitor::amend(FrameReport& r, HealthEvidence e) const {
+Verdict HealthJudge::amend(Verdict v, HealthEvidence e) const {
     switch (e) {
-        case HealthEvidence::NoPose: r.health = Health::Lost; break;
         case HealthEvidence::Unconfirmed:
-            if (r.health != Health::Ok) break;
-            r.health = Health::Degraded;
-            r.health_reason = "unconfirmed";
-            r.checks.unconfirmed = true;
+            if (v.health != Health::Ok) break;
+            v.health = Health::Degraded;
+            v.reason = "unconfirmed";
+            v.checks.unconfirmed = true;
             break;
         case HealthEvidence::Confirmed:
-            if (!r.checks.unconfirmed) break;
-            r.health = Health::Ok;
-            r.health_reason.clear();
-            r.checks.unconfirmed = false;
+            if (!v.checks.unconfirmed) break;
+            v.health = Health::Ok;
+            v.reason.clear();
+            v.checks.unconfirmed = false;
             break;
         case HealthEvidence::StartAmbiguous:
-            if (r.health != Health::Ok) break;
-            r.health = Health::Degraded;
-            r.health_reason = "start_ambiguous";
+            if (v.health != Health::Ok) break;
+            v.health = Health::Degraded;
+            v.reason = "start_ambiguous";
             break;
     }
+    return v;
 }
 
 double HealthMonitor::imuDrift(const FrameReport& rep) const {

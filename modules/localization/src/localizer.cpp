@@ -35,7 +35,7 @@ Localizer::Localizer(const LocalizerParams& params, std::shared_ptr<const map::P
           [this](Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base) {
               return tracker_.solveFrom(f, start, as, base);
           },
-          health_, sensors_, *this),
+          sensors_, *this),
       outputs_(params.risk) {
     setMap(std::move(map));
 }
@@ -117,31 +117,62 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     if (requested) {
         sol.state = f.start;
         sol.report = f.report;
+        // Localized by the Recovery alone: lost until it takes a pose.
+        sol.report.diverged = true;
+        sol.report.diverged_reason = Divergence::NoPose;
     } else {
         sol = tracker_.track(f, velocity_unknown);
     }
-    // The frame's report, from what the Tracker gave; health and the Recovery judge it below.
+    // The frame's report, assembled here and only here: from what the Tracker gave, the
+    // Recovery's decisions, and the health checks' verdict (judge: the checks against the run's
+    // reference as it stands, a value the Recovery is handed too).
     FrameReport rep(frames_++, scan.t, sol.report);
     rep.coarse_start = velocity_unknown && tracker_.registration().traits().coarse_to_fine;
-    if (requested) recovery_.withoutPose(f, sol, rep);
-    // Step 7: health (HealthMonitor), then the Recovery: a given start checked within its
-    // uncertainty, a lost or doubtful frame searched (unless this frame was the search's).
+    const HealthJudge judge = health_.judge();
+    Verdict verdict;
+    bool restart = false;  // the next frame starts with its velocity unknown
+    // A decision of the Recovery: a pose it took replaces the frame's solve (the frame keeps its
+    // own times) and is judged afresh (unless it keeps the frame's verdict); a lost frame may report the best pose found; what the
+    // search did and its times; then the evidence, in order. The last pose taken decides the restart.
+    const auto apply = [&](RecoveryDecision d) {
+        if (d.taken) {
+            const StageTimes ms = rep.ms;
+            sol = std::move(*d.taken);
+            rep.setTrack(sol.report);
+            rep.ms = ms;
+            rep.recovered = rep.recovered || d.recovered;
+            rep.measurePrediction();
+            if (!d.keep_verdict) verdict = judge(rep);
+            restart = d.restart;
+        }
+        if (d.shown) {
+            rep.T_map_lidar = d.shown->T_map_lidar;
+            rep.T_map_imu = d.shown->T_map_imu;
+        }
+        if (d.reloc) rep.reloc = std::move(*d.reloc);
+        rep.ms.solve += d.ms;
+        for (const HealthEvidence e : d.evidence) verdict = judge.amend(verdict, e);
+    };
+    if (requested) apply(recovery_.withoutPose(f, OwnPose{sol, rep, judge(rep)}, judge));
+    // Step 7: health, then the Recovery: a given start checked within its uncertainty, a lost or
+    // doubtful frame searched (unless this frame was the search's).
     rep.imu_drift_deg = requested ? 0.0 : health_.imuDrift(rep);
-    health_.assessFrame(rep);
-    if (f.first && !requested && start_.given() && search_ && rep.health != Health::Lost)
-        recovery_.checkStart(f, *start_.given(), sol, rep);
-    recovery_.recoverIfLost(f, !requested, sol, rep);
+    rep.measurePrediction();
+    verdict = judge(rep);
+    if (f.first && !requested && start_.given() && search_ && verdict.health != Health::Lost)
+        apply(recovery_.checkStart(f, *start_.given(), OwnPose{sol, rep, verdict}, judge));
+    apply(recovery_.recoverIfLost(f, !requested, OwnPose{sol, rep, verdict}, judge));
     // A frame whose own registration is in doubt (not converged, or fitting clearly worse than
     // this map gives) reports, and carries, what it knew without its scan (doc/method.md §4).
-    if (sol.post && !rep.recovered && rep.checks.inDoubt()) rep.cov = tracker_.dropScan(f, sol);
+    if (sol.post && !rep.recovered && verdict.checks.inDoubt()) rep.cov = tracker_.dropScan(f, sol);
+    rep.setVerdict(verdict);
     // The frame is final. The health monitor commits it once (the reference, and the drift
     // check's chain, which goes on through frames the IMU predicted from the one before and
     // their own registration solved); the next frame starts from what the Recovery decided.
-    const bool chained = f.pred.used_imu && !rep.recovered && !recovery_.restart();
-    const Recovery::NextFrame next = recovery_.endFrame(f, sol.state, rep);
+    const bool chained = f.pred.used_imu && !rep.recovered && !restart;
+    const Recovery::NextFrame next = recovery_.endFrame(f, sol.state, rep, restart);
     health_.commit(rep, chained);
-    tracker_.setRestart(next.restart);
-    tracker_.end(f, next.state, sol, rep, requested, recovery_.pending());
+    tracker_.end(f, next.state, sol, rep, requested, recovery_.pending(), next.restart);
     sensors_.forgetBefore(scan.t);
     rep.ms.total = msSince(t_start);
     rep.ms.total_cpu = threadCpuMs() - cpu_start;

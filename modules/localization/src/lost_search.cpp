@@ -15,15 +15,19 @@ namespace {
 using Clock = SteadyClock;
 }  // namespace
 
-RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, FrameSolution& sol, FrameReport& rep) {
+RecoveryDecision Recovery::search(Frame& f, const reloc::SearchRegion* region, const OwnPose& own_pose,
+                                  const HealthJudge& judge) {
     const auto& rp = params_.relocalization;
     const Scan& scan = *f.scan;
+    const FrameReport& rep = own_pose.rep;
+    const bool own_lost = own_pose.verdict.health == Health::Lost;
+    RecoveryDecision d;
     RelocReport rr;
     rr.mode = region ? "local" : "global";
-    rr.trigger = pending_ ? "request" : rep.health == Health::Lost ? "lost" : "doubt";
+    rr.trigger = pending_ ? "request" : own_lost ? "lost" : "doubt";
     rr.outcome = RelocOutcome::Failed;
     // The frame's own solve, as it stands before the search.
-    const Attempt own{rep, sol, rep.health, rep.checks, ""};
+    const Attempt own{rep, own_pose.sol, own_pose.verdict};
 
     // Gravity: the IMU-predicted attitude when there is one, else the search estimates it from
     // the scan's ground plane.
@@ -39,9 +43,8 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
     if (found.hypotheses.empty()) {
         rr.search_ms = msSince(t0);
         rr.detail = "no_hypothesis" + (found.failure.empty() ? "" : ": " + found.failure);
-        rep.reloc = rr;
-        rep.ms.solve += rr.search_ms;
-        return rr.outcome;
+        report(rr, d);
+        return d;
     }
     // The best verify_hypotheses, and every other one the search could not tell from the best
     // (score within ambiguity_ratio of it): in look-alike places (the simulated office's rooms)
@@ -56,21 +59,21 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
     // whatever the tracking association (doc/map.md: its metre-sized levels forgive the search's
     // 0.25 m / 1.5 deg steps, and it is fast), with no prior and no jump check.
     t0 = Clock::now();
-    std::vector<Attempt> attempts = verifier_.verify(f, tries, rep, VerifyAs::Hypothesis);
+    std::vector<Attempt> attempts = verifier_.verify(f, tries, rep, VerifyAs::Hypothesis, judge);
     for (size_t i = 0; i < attempts.size(); ++i) {
         const Attempt& a = attempts[i];
         const Vec3d& x = a.rep.T_map_lidar.translation();
         log_.logFmt(mrpt::system::LVL_DEBUG,
                     "hypothesis %zu (score %.3f): -> (%.2f %.2f %.2f), moved %.2f m, inliers %.3f, %s%s %s", i,
                     found.hypotheses[i].score, x.x(), x.y(), x.z(), translationDistance(a.rep.T_map_lidar, tries[i]),
-                    a.rep.inlier_ratio, healthName(a.health), verifier_.fits(a) ? " verified" : "", a.why.c_str());
+                    a.rep.inlier_ratio, healthName(a.verdict.health), verifier_.fits(a) ? " verified" : "",
+                    a.verdict.reason.c_str());
     }
     rr.verify_ms = msSince(t0);
     std::vector<Attempt> verified, standing;
     sortOut(std::move(attempts), verified, standing);
     rr.verified = static_cast<int>(verified.size());
-    const StageTimes ms = rep.ms;
-    if (!rank(verified, ms, rr, rep)) return rr.outcome;
+    if (!rank(verified, rr, d)) return d;
     const Attempt& best = verified.front();
     // Ambiguous: another pose that stands (verified, or only unsettled), in another place,
     // explains the scan about as well; or, while candidates are tracked (refined on this scan
@@ -100,17 +103,15 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
         rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = ambiguous;
         rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
-        if (rp.track_candidates > 0 && (rep.health == Health::Lost || pending_)) {
-            const SE3d T_lidar = best.rep.T_map_lidar, T_imu = best.rep.T_map_imu;
-            rr.candidates = candidates_.admit(std::move(standing), rr.trigger);
+        if (rp.track_candidates > 0 && (own_lost || pending_)) {
             // The frame reports the best-fitting pose (lost all the same).
-            rep.T_map_lidar = T_lidar;
-            rep.T_map_imu = T_imu;
+            d.shown = RecoveryDecision::Shown{best.rep.T_map_lidar, best.rep.T_map_imu};
+            rr.candidates = candidates_.admit(std::move(standing), rr.trigger);
         }
-        report(ms, rr, rep);
-        return rr.outcome;
+        report(rr, d);
+        return d;
     }
-    if (rep.health != Health::Lost && !pending_ && f.pred.used_imu && imu_chain_ &&
+    if (!own_lost && !pending_ && f.pred.used_imu && imu_chain_ &&
         (translationDistance(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_xyz ||
          rotationAngle(best.rep.T_map_lidar, rep.T_map_lidar) > rp.doubt_max_deg * kDeg)) {
         // A frame only in doubt, predicted by the IMU, is corrected, not moved to another place:
@@ -118,19 +119,18 @@ RelocOutcome Recovery::search(Frame& f, const reloc::SearchRegion* region, Frame
         // 3 m up a stairwell). Without IMU the prediction itself may be metres off (campus), and
         // so may an IMU chain that started from such a frame (imu_chain_).
         rr.outcome = RelocOutcome::TooFar;
-        report(ms, rr, rep);
-        return rr.outcome;
+        report(rr, d);
+        return d;
     }
-    if (rep.health != Health::Lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
+    if (!own_lost && best.rep.inlier_ratio <= rep.inlier_ratio) {
         // The frame's own solve stands (a suspicious frame the search could not better).
         rr.outcome = RelocOutcome::NotBetter;
-        report(ms, rr, rep);
-        return rr.outcome;
+        report(rr, d);
+        return d;
     }
-    accept(f, own, best, rr, sol, rep);
-    report(ms, rr, rep);
-    rep.recovered = true;
-    return rr.outcome;
+    accept(f, own, best, rr, d);
+    report(rr, d);
+    return d;
 }
 
 }  // namespace superloc::localization

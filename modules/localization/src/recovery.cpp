@@ -10,13 +10,12 @@
 
 namespace superloc::localization {
 
-Recovery::Recovery(const LocalizerParams& params, SolveFn solve, const HealthMonitor& health,
-                   const SensorHistory& sensors, const mrpt::system::COutputLogger& log)
+Recovery::Recovery(const LocalizerParams& params, SolveFn solve, const SensorHistory& sensors,
+                   const mrpt::system::COutputLogger& log)
     : params_(params),
-      health_(health),
       sensors_(sensors),
       log_(log),
-      verifier_(std::move(solve), health, params_.relocalization),
+      verifier_(std::move(solve), params_.relocalization),
       candidates_(params, verifier_, sensors, log) {}
 
 void Recovery::relocalize(const std::optional<reloc::SearchRegion>& region) {
@@ -25,39 +24,49 @@ void Recovery::relocalize(const std::optional<reloc::SearchRegion>& region) {
     region_ = region;
 }
 
-void Recovery::withoutPose(Frame& f, FrameSolution& sol, FrameReport& rep) {
+RecoveryDecision Recovery::withoutPose(Frame& f, const OwnPose& own, const HealthJudge& judge) {
     // relocalize() (e.g. --initial-pose auto): this scan is localized by the search alone.
     // Until a pose is accepted, every scan searches again, or, after an ambiguous search,
     // tracks its candidates (doc/relocalization.md §4); a lost frame's candidates likewise.
+    // The frame's own report says no_pose (lost).
     const auto& rp = params_.relocalization;
-    rep.diverged = true;
-    rep.diverged_reason = Divergence::NoPose;
-    if (!candidates_.empty()) candidates_.refine(f, rep);
+    RecoveryDecision d;
+    if (!candidates_.empty()) d.ms += candidates_.refine(f, own.rep, judge);
     const bool tracking = !candidates_.empty();
-    RelocOutcome o = RelocOutcome::None;
+    RelocReport searched;
     if (!tracking || (rp.track_search_every > 0 && candidates_.age() % rp.track_search_every == 0)) {
         // A fresh search, where relocalize() asked or a lost frame looks; while candidates are
         // tracked, its hypotheses join them (and its winner must beat them too).
         std::optional<reloc::SearchRegion> region = region_;
-        if (!pending_) {
-            health_.amend(rep, HealthEvidence::NoPose);
-            region = lostRegion(f.scan->t, lost_run_ + 1);
+        if (!pending_) region = lostRegion(f.scan->t, lost_run_ + 1);
+        RecoveryDecision s = search(f, region ? &*region : nullptr, own, judge);
+        s.ms += d.ms;
+        d = std::move(s);
+        if (d.reloc) searched = *d.reloc;
+    }
+    if (tracking && d.outcome != RelocOutcome::Accepted) {
+        RecoveryDecision c = candidates_.decide(f, own.rep, searched, judge);
+        d.outcome = c.outcome;
+        d.reloc = std::move(c.reloc);
+        if (c.shown) d.shown = c.shown;
+        if (c.taken) {
+            d.taken = std::move(c.taken);
+            d.recovered = true;
+            d.shown.reset();
+            // The next frame starts coarse, as after any relocalization of a lost frame.
+            d.restart = true;
         }
-        o = search(f, region ? &*region : nullptr, sol, rep);
     }
-    if (tracking && o != RelocOutcome::Accepted) {
-        o = candidates_.decide(f, sol, rep);
-        // The next frame starts coarse, as after any relocalization of a lost frame.
-        if (o == RelocOutcome::Accepted) restart_ = true;
-    }
-    if (o == RelocOutcome::Accepted) pending_ = false, doubt_ = false, candidates_.clear();
+    if (d.outcome == RelocOutcome::Accepted) pending_ = false, doubt_ = false, candidates_.clear();
+    return d;
 }
 
-void Recovery::recoverIfLost(Frame& f, bool may_search, FrameSolution& sol, FrameReport& rep) {
+RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPose& own, const HealthJudge& judge) {
     // Lost for local_after_lost frames searches around the last pose not lost, for
     // global_after_lost frames the whole map.
     const auto& rp = params_.relocalization;
-    lost_run_ = rep.health == Health::Lost ? lost_run_ + 1 : 0;
+    RecoveryDecision d;
+    lost_run_ = own.verdict.health == Health::Lost ? lost_run_ + 1 : 0;
     // A frame that stands but whose registration is in doubt (degraded: it fits clearly worse
     // than this map gives when tracking is right, or did not settle in its rounds) gets the
     // local search too. The search's pose replaces the frame's only when verified with more
@@ -65,37 +74,47 @@ void Recovery::recoverIfLost(Frame& f, bool may_search, FrameSolution& sol, Fram
     // After such a frame the search could not settle, the frames that follow are not `ok` before
     // a search confirms them: tracking from a doubtful pose can settle in a wrong basin and fit
     // as well as a right one (kitti00-mini split: 1.1 m along the road, converged).
-    const HealthChecks c = rep.checks;  // as solved (a search may replace rep)
-    const bool unconfirmed = search_ && doubt_ && rep.health == Health::Ok;
-    if (unconfirmed) health_.amend(rep, HealthEvidence::Unconfirmed);
+    const HealthChecks& c = own.verdict.checks;  // as solved
+    const bool unconfirmed = search_ && doubt_ && own.verdict.health == Health::Ok;
+    Verdict v = own.verdict;
+    if (unconfirmed) {
+        v = judge.amend(v, HealthEvidence::Unconfirmed);
+        d.evidence.push_back(HealthEvidence::Unconfirmed);
+    }
     // A frame that fits clearly worse is searched whatever its risk says (its gamma was measured
     // at a pose that may be wrong); one only unsettled is not where the scan leaves a translation
     // unconstrained (a corridor: the search could not tell the places along it apart).
     const bool suspicious =
-        rep.health == Health::Degraded && (c.badFit() || ((c.inDoubt() || unconfirmed) && !c.weakTranslation()));
+        v.health == Health::Degraded && (c.badFit() || ((c.inDoubt() || unconfirmed) && !c.weakTranslation()));
     if (!(search_ && may_search && (lost_run_ >= rp.local_after_lost || suspicious))) {
-        if (c.inDoubt() || rep.health == Health::Lost) doubt_ = true;
-        return;
+        if (c.inDoubt() || v.health == Health::Lost) doubt_ = true;
+        return d;
     }
     const auto region = lostRegion(f.scan->t, lost_run_);
-    switch (search(f, region ? &*region : nullptr, sol, rep)) {
+    RecoveryDecision s = search(f, region ? &*region : nullptr, OwnPose{own.sol, own.rep, v}, judge);
+    switch (s.outcome) {
         case RelocOutcome::Accepted:
-            assess(rep);
-            lost_run_ = rep.health == Health::Lost ? lost_run_ : 0;
+            // The pose taken is judged afresh (the evidence so far was about the frame's own);
+            // it was verified, so not lost.
+            s.evidence.clear();
+            lost_run_ = 0;
             doubt_ = false;
-            break;
+            return s;
         case RelocOutcome::NotBetter:
             // Nothing around fits better: the frame's own pose is confirmed.
             doubt_ = false;
-            if (unconfirmed) health_.amend(rep, HealthEvidence::Confirmed);
+            if (unconfirmed) d.evidence.push_back(HealthEvidence::Confirmed);
             break;
         default:
             if (c.inDoubt()) doubt_ = true;
             break;
     }
+    s.evidence = std::move(d.evidence);
+    return s;
 }
 
-Recovery::NextFrame Recovery::endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep) {
+Recovery::NextFrame Recovery::endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep,
+                                       bool restart) {
     prev_verified_ = rep.health == Health::Ok || rep.recovered;
     if (rep.health == Health::Ok)
         imu_chain_ = true;
@@ -112,17 +131,15 @@ Recovery::NextFrame Recovery::endFrame(const Frame& f, const fusion::FrameState&
         next = last_good_->state;
         next.t = f.scan->t;
         next.setVelocity(Vec3d::Zero());
-        restart_ = true;
+        restart = true;
     }
-    const NextFrame out{next, restart_};
-    restart_ = false;  // the next frame decides its own
-    return out;
+    return NextFrame{next, restart};
 }
 
-void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, RelocReport& rr, FrameSolution& sol,
-                      FrameReport& rep) {
-    sol = best.sol;
-    if (!own.rep.diverged && own.rep.health != Health::Lost) {
+void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, RelocReport& rr, RecoveryDecision& d) {
+    FrameSolution sol = best.sol;
+    const bool lost_before = own.rep.diverged || own.verdict.health == Health::Lost;
+    if (!lost_before) {
         // A frame in doubt was tracked: its velocity (IMU-integrated, or constant velocity) is
         // the platform's, in a frame rotated by the correction. The verification solved from
         // rest, so carry it over (a dropout over an IMU gap: 0.63 m off on the next frame
@@ -130,7 +147,8 @@ void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, R
         const Mat3d R_corr = best.rep.T_map_lidar.linear() * own.rep.T_map_lidar.linear().transpose();
         sol.state.setVelocity(R_corr * own.sol.state.velocity());
     }
-    rep = best.rep;
+    d.taken = std::move(sol);
+    d.recovered = true;
     rr.outcome = RelocOutcome::Accepted;
     // After a loss (or with no pose at all) the velocity is unknown: the next frame starts
     // coarse. So it is after a correction larger than [health] max_pred_xyz / max_pred_deg:
@@ -142,15 +160,14 @@ void Recovery::accept(const Frame& f, const Attempt& own, const Attempt& best, R
     // them): a zero-velocity restart there settled kitti00-mini's next odd frame 0.85 m back
     // along the road, reported ok (doc/results.md, health table).
     const auto& hp = params_.health;
-    const bool lost_before = own.rep.diverged || own.rep.health == Health::Lost;
     const bool corrected_far = translationDistance(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_xyz ||
                                rotationAngle(best.rep.T_map_lidar, own.rep.T_map_lidar) > hp.max_pred_deg * kDeg;
-    restart_ = lost_before || (corrected_far && (f.pred.used_imu || !prev_verified_));
+    d.restart = d.restart || lost_before || (corrected_far && (f.pred.used_imu || !prev_verified_));
     log_.logFmt(mrpt::system::LVL_INFO,
                 "frame %zu (t=%.3f): relocalized (%s search %.0f ms, %d of %d hypotheses verified in %.0f ms), "
                 "inlier ratio %.2f",
-                rep.index, rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
-                rep.inlier_ratio);
+                own.rep.index, own.rep.t, rr.mode.c_str(), rr.search_ms, rr.verified, rr.hypotheses, rr.verify_ms,
+                best.rep.inlier_ratio);
 }
 
 void Recovery::sortOut(std::vector<Attempt>&& attempts, std::vector<Attempt>& verified,
@@ -159,14 +176,14 @@ void Recovery::sortOut(std::vector<Attempt>&& attempts, std::vector<Attempt>& ve
     // well but did not settle in its rounds is no evidence against it (look-alike rooms).
     for (Attempt& a : attempts) {
         if (verifier_.fits(a)) verified.push_back(a);
-        if (a.health != Health::Lost) standing.push_back(std::move(a));
+        if (a.verdict.health != Health::Lost) standing.push_back(std::move(a));
     }
 }
 
-bool Recovery::rank(std::vector<Attempt>& verified, const StageTimes& ms, RelocReport& rr, FrameReport& rep) const {
+bool Recovery::rank(std::vector<Attempt>& verified, RelocReport& rr, RecoveryDecision& d) const {
     if (verified.empty()) {
         rr.detail = "verification";
-        report(ms, rr, rep);
+        report(rr, d);
         return false;
     }
     std::sort(verified.begin(), verified.end(),
@@ -174,10 +191,10 @@ bool Recovery::rank(std::vector<Attempt>& verified, const StageTimes& ms, RelocR
     return true;
 }
 
-void Recovery::report(const StageTimes& ms, const RelocReport& rr, FrameReport& rep) {
-    rep.ms = ms;
-    rep.ms.solve += rr.search_ms + rr.verify_ms;
-    rep.reloc = rr;
+void Recovery::report(const RelocReport& rr, RecoveryDecision& d) {
+    d.outcome = rr.outcome;
+    d.reloc = rr;
+    d.ms += rr.search_ms + rr.verify_ms;
 }
 
 bool Recovery::rival(const FrameReport& best, const FrameReport& o, bool start) const {
@@ -198,7 +215,5 @@ std::optional<reloc::SearchRegion> Recovery::lostRegion(double t, int lost_run) 
     region.yaw_half_width = rp.local_yaw_deg * kDeg;
     return region;
 }
-
-void Recovery::assess(FrameReport& rep) const { health_.assessFrame(rep); }
 
 }  // namespace superloc::localization

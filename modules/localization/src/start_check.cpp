@@ -15,14 +15,15 @@ namespace {
 using Clock = SteadyClock;
 }  // namespace
 
-std::vector<SE3d> Recovery::startBasins(Frame& f, const std::vector<SE3d>& seeds, const FrameReport& rep) {
+std::vector<SE3d> Recovery::startBasins(Frame& f, const std::vector<SE3d>& seeds, const FrameReport& rep,
+                                        const HealthJudge& judge) {
     // Each seed solved in the voxel map (fast, as a search hypothesis); one pose per basin the
     // seeds reach, best first, kept where it fits at least start_refine_ratio x the best basin
     // (measured: refining every basin cost 919 ms on the KITTI split, these 219 ms).
     const auto& rp = params_.relocalization;
     std::vector<std::pair<SE3d, double>> basins;  // pose, inlier ratio
     for (const SE3d& T_seed : seeds) {
-        const Attempt a = verifier_.verify(f, std::vector<SE3d>{T_seed}, rep, VerifyAs::Hypothesis).front();
+        const Attempt a = verifier_.verify(f, std::vector<SE3d>{T_seed}, rep, VerifyAs::Hypothesis, judge).front();
         if (a.rep.diverged) continue;
         const SE3d& T = a.rep.T_map_lidar;
         if (std::none_of(basins.begin(), basins.end(), [&](const auto& b) { return rp.sameStartBasin(b.first, T); }))
@@ -35,33 +36,35 @@ std::vector<SE3d> Recovery::startBasins(Frame& f, const std::vector<SE3d>& seeds
     return tries;
 }
 
-void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameReport& rep) {
+RecoveryDecision Recovery::checkStart(Frame& f, const SE3d& T0, const OwnPose& own_pose, const HealthJudge& judge) {
     const auto& rp = params_.relocalization;
+    RecoveryDecision d;
     const std::vector<SE3d> seeds = StartPose::seeds(T0, rp);
-    if (seeds.empty()) return;
+    if (seeds.empty()) return d;
     RelocReport rr;
     rr.mode = "start";
     rr.trigger = "start";
     rr.outcome = RelocOutcome::Failed;
-    const Attempt own{rep, sol, rep.health, rep.checks, ""};
+    const FrameReport& rep = own_pose.rep;
+    const bool own_stands = own_pose.verdict.health != Health::Lost;
+    const Attempt own{rep, own_pose.sol, own_pose.verdict};
     // Proposals: the basins the seeds reach, each verified by the frame's own registration so
     // that it compares with the frame's own solve.
     auto t0 = Clock::now();
     rr.hypotheses = static_cast<int>(seeds.size());
-    const std::vector<SE3d> tries = startBasins(f, seeds, rep);
+    const std::vector<SE3d> tries = startBasins(f, seeds, rep, judge);
     rr.search_ms = msSince(t0);
     t0 = Clock::now();
     std::vector<Attempt> verified, standing;
-    sortOut(verifier_.verify(f, tries, rep, VerifyAs::FirstFrame), verified, standing);
+    sortOut(verifier_.verify(f, tries, rep, VerifyAs::FirstFrame, judge), verified, standing);
     rr.verify_ms = msSince(t0);
     rr.verified = static_cast<int>(verified.size());
-    if (rep.health != Health::Lost && !rep.diverged) {
+    if (own_stands && !rep.diverged) {
         // The start's own solve (from the given pose) is one of the results compared.
         if (verifier_.fits(own)) verified.push_back(own);
         standing.push_back(own);
     }
-    const StageTimes ms = rep.ms;
-    if (!rank(verified, ms, rr, rep)) return;
+    if (!rank(verified, rr, d)) return d;
     const Attempt& best = verified.front();
     // Ambiguous: a result in another basin of the start (start_distinct_*) explains the scan
     // about as well. (A translation the scan leaves open is told by this rule already: the seeds
@@ -72,33 +75,36 @@ void Recovery::checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameRep
         rr.outcome = RelocOutcome::Ambiguous;
         rr.detail = "alternatives";
         rr.alternatives.insert(rr.alternatives.begin(), best.rep.T_map_lidar);
-        if (!rep.diverged && rep.health != Health::Lost && rep.inlier_ratio < rp.ambiguity_ratio * best.rep.inlier_ratio) {
+        if (!rep.diverged && own_stands && rep.inlier_ratio < rp.ambiguity_ratio * best.rep.inlier_ratio) {
             // A start whose own solve fits clearly worse than rivals that tie among themselves
             // (kitti00-mini from 1.0 m / 1.0 m / 10 deg off: own 0.37, two seeds 0.62 and 0.62,
             // 0.6 m apart): the best-fitting of them is taken, reported ambiguous all the same,
-            // and the next frame starts with its velocity unknown.
-            sol = best.sol;
-            rep = best.rep;
-            restart_ = true;
+            // and the next frame starts with its velocity unknown. The frame keeps its own
+            // solve's verdict: its doubt stands, so step 7's search settles it (kitti00-mini from
+            // 0.5 m / 0.5 m / 5 deg off: judged as the rival's, the frame was not searched and the
+            // frames after it settled up to 0.17 m off; searched, every frame from the fifth is
+            // within 7 cm).
+            d.taken = best.sol;
+            d.keep_verdict = true;
+            d.restart = true;
         }
-        report(ms, rr, rep);
+        report(rr, d);
         // Another result within the start's uncertainty fits about as well: the pose is kept,
         // but not as `ok`. (The frames after it are not held in doubt: on kitti00-mini their
         // searches took poses 0.4 m along the road, as the start's rivals were.)
-        health_.amend(rep, HealthEvidence::StartAmbiguous);
-        return;
+        d.evidence.push_back(HealthEvidence::StartAmbiguous);
+        return d;
     }
-    if (rep.health != Health::Lost &&
+    if (own_stands &&
         (best.rep.inlier_ratio <= rep.inlier_ratio || rp.sameStartBasin(best.rep.T_map_lidar, rep.T_map_lidar))) {
         // The frame's own solve stands (the best seed ends where the own solve did, or fits no better).
         rr.outcome = RelocOutcome::NotBetter;
-        report(ms, rr, rep);
-        return;
+        report(rr, d);
+        return d;
     }
-    accept(f, own, best, rr, sol, rep);
-    report(ms, rr, rep);
-    rep.recovered = true;
-    assess(rep);
+    accept(f, own, best, rr, d);
+    report(rr, d);
+    return d;
 }
 
 }  // namespace superloc::localization

@@ -286,8 +286,9 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
 }
 
 void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
-                  bool requested, bool pending) {
+                  bool requested, bool pending, bool restart) {
     const Scan& scan = *f.scan;
+    restart_ = restart;
     // A relocalized frame starts afresh: no velocity from the frames before it.
     prev_prev_ = have_prev_ && !restart_ ? std::optional<fusion::FrameState>(f.prev) : std::nullopt;
     prev_ = state;

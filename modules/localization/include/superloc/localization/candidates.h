@@ -29,19 +29,20 @@ class CandidateTracker {
     /// The reports of the candidates (rivals of a search's winner: it must beat them too).
     std::vector<const FrameReport*> reports() const;
 
-    /// First half, on each scan of a frame without a pose: each candidate moved by the measured
-    /// motion since its frame and verified from there (Verifier); those lost or fitting clearly
-    /// worse than the run's reference are dropped, those that met merged.
-    void refine(Frame& f, FrameReport& rep);
+    /// First half, on each scan of a frame without a pose (`rep`, its report): each candidate
+    /// moved by the measured motion since its frame and verified from there (Verifier, judged by
+    /// `judge`); those lost or fitting clearly worse than the run's reference are dropped, those
+    /// that met merged. Returns the time it took [ms].
+    double refine(Frame& f, const FrameReport& rep, const HealthJudge& judge);
     /// After an ambiguous search on such a frame: its attempts that stand (best first, not
     /// already tracked, not clearly worse than the best tracked) join the set while it has room.
     /// Returns the number of candidates.
     int admit(std::vector<Attempt> standing, const std::string& trigger);
-    /// Second half, after this frame's search (if any) merged its hypotheses: the best candidate
-    /// clearly and consistently best over the frames is committed (Accepted: `sol` and `rep`
-    /// become its own); else the frame is reported lost with the best candidate's pose
-    /// (Ambiguous), or Failed when none is left.
-    RelocOutcome decide(Frame& f, FrameSolution& sol, FrameReport& rep);
+    /// Second half, after this frame's search (if any: `searched`, what it did) merged its
+    /// hypotheses: the best candidate clearly and consistently best over the frames is committed
+    /// (Accepted: the decision takes its pose); else the frame is reported lost with the best
+    /// candidate's pose (Ambiguous), or Failed when none is left.
+    RecoveryDecision decide(Frame& f, const FrameReport& rep, const RelocReport& searched, const HealthJudge& judge);
     void clear() { set_.clear(); }
 
    private:
@@ -65,7 +66,7 @@ class CandidateTracker {
     };
     /// Whether each translation the candidate's scan constrains weakly is held all the same:
     /// probes moved along it come back or fit clearly worse.
-    bool weakAxesHeld(Frame& f, const Candidate& c);
+    bool weakAxesHeld(Frame& f, const Candidate& c, const HealthJudge& judge);
 
     const LocalizerParams& params_;
     const Verifier& verifier_;

@@ -107,8 +107,9 @@ struct TrackReport {
 };
 
 /// The frame's report (frames.csv, doc/localizer.md "Outputs"): assembled once per frame by
-/// Localizer::process from the Tracker's TrackReport, then judged by the HealthMonitor and, when
-/// a frame is searched, replaced by the Recovery's verified pose's.
+/// Localizer::process, and only there, from the values the others return: the Tracker's
+/// TrackReport, the Recovery's decisions (a verified pose's TrackReport, what its search did) and
+/// the health checks' Verdict.
 struct FrameReport : TrackReport {
     size_t index = 0;
     double t = 0;                 ///< [s] scan time (end of sweep)
@@ -135,6 +136,13 @@ struct FrameReport : TrackReport {
     void setTrack(const TrackReport& r) { static_cast<TrackReport&>(*this) = r; }
     /// pred_dxyz, pred_ddeg: the reported pose against the prediction it started from.
     void measurePrediction();
+    /// The health checks' verdict on the frame (health, health_reason, checks, inlier_reference).
+    void setVerdict(const Verdict& v) {
+        health = v.health;
+        health_reason = v.reason;
+        checks = v.checks;
+        inlier_reference = v.inlier_reference;
+    }
 };
 
 }  // namespace superloc::localization

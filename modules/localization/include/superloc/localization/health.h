@@ -68,12 +68,21 @@ struct HealthChecks {
 const char* healthName(Health h);  ///< "ok", "degraded", "lost"
 
 /// What the rest of the Localizer knows of a frame beyond its registration's report, handed to
-/// the HealthMonitor (amend), which alone decides what it makes of the frame's health.
+/// the health checks (HealthJudge::amend), which alone decide what it makes of the frame's health.
+/// (A frame without a pose is lost by its report alone: Divergence::NoPose.)
 enum class HealthEvidence {
-    NoPose,          ///< localized without a pose (relocalize(), or candidates tracked): lost until placed
     Unconfirmed,     ///< after a doubt no search settled: the frame waits for a search to confirm it
     Confirmed,       ///< a search found nothing better around an unconfirmed frame
     StartAmbiguous,  ///< the start check found another pose that fits about as well
+};
+
+/// What the health checks make of one report: its state, the checks that failed ('+'-joined,
+/// frames.csv health_reason) and as flags, and the reference inlier ratio it was judged against.
+struct Verdict {
+    Health health = Health::Ok;
+    std::string reason;
+    HealthChecks checks;
+    double inlier_reference = 0;  ///< the run's reference before this frame (0: none yet)
 };
 
 /// Section [health] of the INI.
@@ -109,29 +118,45 @@ struct HealthParams : public mrpt::config::CLoadableOptions {
     void validate() const;
 };
 
-/// Classifies frames in order and keeps the reference inlier ratio of this run. The only writer
-/// of a frame's health: the Tracker and the Recovery hand it their evidence.
+/// The health checks as they stand for the current frame: the parameters and the run's
+/// reference inlier ratio before it (HealthMonitor::judge). A value: judging a report, or
+/// amending a verdict, changes nothing, so the Recovery judges its attempts with it and holds no
+/// HealthMonitor.
+class HealthJudge {
+   public:
+    HealthJudge(const HealthParams& p, double reference) : p_(&p), reference_(reference) {}
+    /// The checks on a report's fields (diverged, converged, gamma, inlier_ratio, pred_dxyz /
+    /// pred_ddeg as measured: FrameReport::measurePrediction, used_imu, cov, imu_drift_deg).
+    Verdict operator()(const FrameReport& rep) const;
+    /// What the evidence makes of a verdict: Unconfirmed an `ok` frame degraded ("unconfirmed"),
+    /// Confirmed back to `ok`; StartAmbiguous an `ok` frame degraded ("start_ambiguous").
+    Verdict amend(Verdict v, HealthEvidence e) const;
+    /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
+    double reference() const { return reference_; }
+    const HealthParams& params() const { return *p_; }
+    /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
+    bool notConverged(const FrameReport& r) const;
+
+   private:
+    HealthChecks check(const FrameReport& r) const;
+    const HealthParams* p_;
+    double reference_;
+};
+
+/// Keeps what the health checks learn of this run, frame by frame: the reference inlier ratio
+/// and the drift check's chain. Each frame is judged by the judge() it hands out (a value) and
+/// committed once with its final report.
 class HealthMonitor {
    public:
     explicit HealthMonitor(const HealthParams& p = {}) : p_(p) {}
-    /// Sets rep.health, rep.health_reason, rep.checks and rep.inlier_reference from the report's
-    /// fields (diverged, converged, gamma, inlier_ratio, pred_dxyz/pred_ddeg, used_imu, cov)
-    /// against the run's reference as it stands; the reference is not touched (commit()).
-    void assess(FrameReport& rep) const;
-    /// assess() after measuring the solved pose against the predicted one (pred_dxyz, pred_ddeg):
-    /// what a frame gets when its solve is done, and again when a relocalization replaced it.
-    void assessFrame(FrameReport& rep) const;
-    /// What the evidence makes of a frame already assessed: NoPose lost; Unconfirmed an `ok`
-    /// frame degraded ("unconfirmed"), Confirmed back to `ok`; StartAmbiguous an `ok` frame
-    /// degraded ("start_ambiguous").
-    void amend(FrameReport& rep, HealthEvidence e) const;
+    /// The checks for the current frame, against the run's reference as it stands.
+    HealthJudge judge() const { return HealthJudge(p_, reference()); }
+    /// judge()'s verdict on a report, its state alone (and the failed checks in `reason`,
+    /// `checks`): what a report would get, without touching the reference.
+    Health classify(const FrameReport& rep, std::string* reason = nullptr, HealthChecks* checks = nullptr) const;
     /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
     double reference() const;
-    /// What assess() would say about a candidate (relocalization), without touching the reference.
-    Health classify(const FrameReport& rep, std::string* reason = nullptr, HealthChecks* checks = nullptr) const;
     const HealthParams& params() const { return p_; }
-    /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
-    bool notConverged(const FrameReport& r) const;
 
     /// The drift check's measure for a solved frame (FrameReport::imu_drift_deg): [deg] its
     /// rotation against the one the gyro carries along the chain of recorded frames over the
@@ -145,7 +170,6 @@ class HealthMonitor {
     void commit(const FrameReport& rep, bool chained);
 
    private:
-    HealthChecks check(const FrameReport& r, double reference) const;
     HealthParams p_;
     std::deque<double> tracked_;  ///< inlier ratios of the last tracked frames
     /// The drift check's chain, oldest first: each frame's solved R_map_lidar and the rotation

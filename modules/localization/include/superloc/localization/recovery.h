@@ -9,8 +9,11 @@
 //   candidates   (candidates.h)     the candidates of an ambiguous search, each moved by the
 //                                   measured motion and verified on every scan until one is
 //                                   clearly best
-// A policy returns what came of it (RelocOutcome) and, when it takes a pose, the frame's new
-// solution and report; it hands the HealthMonitor its evidence and never sets a health itself.
+// A policy is handed the frame's pose as it stands (OwnPose: solution, report, verdict) and the
+// frame's health checks (HealthJudge, a value), and returns a RecoveryDecision (verify.h): the
+// pose taken if any, what its search did, the evidence for the health checks, whether the next
+// frame restarts. Localizer::process applies it; the Recovery changes no report and sets no
+// health, and holds neither the Tracker nor the HealthMonitor.
 #pragma once
 
 #include <mrpt/system/COutputLogger.h>
@@ -29,9 +32,8 @@ namespace superloc::localization {
 
 class Recovery {
    public:
-    /// `solve`: the frame solved from a pose (Tracker::solveFrom); `health`: read only (its
-    /// classification and the reference), the Localizer commits each frame to it.
-    Recovery(const LocalizerParams& params, SolveFn solve, const HealthMonitor& health, const SensorHistory& sensors,
+    /// `solve`: the frame solved from a pose (Tracker::solveFrom).
+    Recovery(const LocalizerParams& params, SolveFn solve, const SensorHistory& sensors,
              const mrpt::system::COutputLogger& log);
     /// The global search over the map in use (none: relocalization disabled).
     void setSearch(const reloc::GlobalSearch* search) { search_ = search; }
@@ -44,54 +46,49 @@ class Recovery {
     /// A relocalization is still asked for (no pose accepted yet).
     bool pending() const { return pending_; }
 
-    /// A frame without a pose (requested()): its candidates tracked, the map searched; `sol`
-    /// and `rep` become the accepted pose's, or stay (the frame lost, reporting the best pose).
-    void withoutPose(Frame& f, FrameSolution& sol, FrameReport& rep);
+    /// A frame without a pose (requested()): its candidates tracked, the map searched; the
+    /// accepted pose, or nothing (the frame lost, reporting the best pose).
+    RecoveryDecision withoutPose(Frame& f, const OwnPose& own, const HealthJudge& judge);
     /// The first frame from a given pose `T0` (start_check.cpp, doc/health.md "Start").
-    void checkStart(Frame& f, const SE3d& T0, FrameSolution& sol, FrameReport& rep);
+    RecoveryDecision checkStart(Frame& f, const SE3d& T0, const OwnPose& own, const HealthJudge& judge);
     /// Step 7: a frame lost for a while, or in doubt, searches the map (when `may_search`), and
     /// the doubt carried to the next frames is updated.
-    void recoverIfLost(Frame& f, bool may_search, FrameSolution& sol, FrameReport& rep);
-    /// Whether a pose this frame took (a relocalization, the start check's, candidates') means
-    /// the next frame starts with its velocity unknown, as decided so far this frame.
-    bool restart() const { return restart_; }
+    RecoveryDecision recoverIfLost(Frame& f, bool may_search, const OwnPose& own, const HealthJudge& judge);
     /// What the next frame starts from, decided when the frame is final.
     struct NextFrame {
         fusion::FrameState state;  ///< the frame's own, or a lost frame's restart from the last one not lost
-        bool restart = false;      ///< its velocity is unknown (Tracker::setRestart)
+        bool restart = false;      ///< its velocity is unknown (Tracker::end)
     };
-    /// The frame is final: the last frame not lost is updated, and the next frame's start decided.
-    NextFrame endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep);
+    /// The frame is final (`restart`: its decisions said the next frame restarts): the last
+    /// frame not lost is updated, and the next frame's start decided.
+    NextFrame endFrame(const Frame& f, const fusion::FrameState& state, const FrameReport& rep, bool restart);
 
    private:
     /// The map searched for the current scan (lost_search.cpp), in `region` or everywhere.
-    RelocOutcome search(Frame& f, const reloc::SearchRegion* region, FrameSolution& sol, FrameReport& rep);
+    RecoveryDecision search(Frame& f, const reloc::SearchRegion* region, const OwnPose& own, const HealthJudge& judge);
     /// The start check's seeds solved as hypotheses: one pose per basin they reach that fits
     /// within start_refine_ratio of the best, best first (start_check.cpp).
-    std::vector<SE3d> startBasins(Frame& f, const std::vector<SE3d>& seeds, const FrameReport& rep);
+    std::vector<SE3d> startBasins(Frame& f, const std::vector<SE3d>& seeds, const FrameReport& rep,
+                                  const HealthJudge& judge);
     /// `best` replaces the frame's own solve `own` (both policies): its velocity carried over
     /// when the frame was tracked, and whether the next frame starts with its velocity unknown.
-    void accept(const Frame& f, const Attempt& own, const Attempt& best, RelocReport& rr, FrameSolution& sol,
-                FrameReport& rep);
+    void accept(const Frame& f, const Attempt& own, const Attempt& best, RelocReport& rr, RecoveryDecision& d);
     /// The attempts that fit (verified, verify.h) and those not lost (standing), in order.
     void sortOut(std::vector<Attempt>&& attempts, std::vector<Attempt>& verified, std::vector<Attempt>& standing) const;
-    /// Once a policy's attempts are verified: false when none was (`rep` reports "verification"
+    /// Once a policy's attempts are verified: false when none was (`d` reports "verification"
     /// with the policy's times), else true with `verified` best first (highest inlier ratio).
-    bool rank(std::vector<Attempt>& verified, const StageTimes& ms, RelocReport& rr, FrameReport& rep) const;
-    /// What a policy did, into the frame's report: `rr`, and its search and verification times
-    /// added to the frame's own (`ms`).
-    static void report(const StageTimes& ms, const RelocReport& rr, FrameReport& rep);
+    bool rank(std::vector<Attempt>& verified, RelocReport& rr, RecoveryDecision& d) const;
+    /// What a policy did, into its decision: `rr`, its outcome, and its search and verification
+    /// times.
+    static void report(const RelocReport& rr, RecoveryDecision& d);
     /// `o` explains the scan about as well as `best` (ambiguity_ratio x its inlier ratio) from
     /// another place (`start`: another basin of the start check, start_distinct_*).
     bool rival(const FrameReport& best, const FrameReport& o, bool start) const;
     /// Where a frame lost `lost_run` frames in a row searches: around the last frame not lost
     /// (local), or nowhere in particular (global: empty).
     std::optional<reloc::SearchRegion> lostRegion(double t, int lost_run) const;
-    /// The health checks on a report that changed pose (its prediction check first).
-    void assess(FrameReport& rep) const;
 
     const LocalizerParams& params_;
-    const HealthMonitor& health_;
     const SensorHistory& sensors_;
     const mrpt::system::COutputLogger& log_;
     const reloc::GlobalSearch* search_ = nullptr;
@@ -111,7 +108,6 @@ class Recovery {
     bool doubt_ = false;  ///< a frame in doubt was not settled by a search: confirm the next
     /// the last frame was `ok` or a verified relocalization: its pose can anchor a velocity
     bool prev_verified_ = false;
-    bool restart_ = false;  ///< this frame's decision: the next one starts with its velocity unknown
 };
 
 }  // namespace superloc::localization

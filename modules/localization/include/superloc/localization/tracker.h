@@ -63,10 +63,6 @@ class Tracker {
 
     /// A frame was placed (the next one is not a first frame).
     bool started() const { return have_prev_; }
-    /// Whether the next frame starts with its velocity unknown (after a relocalization).
-    void setRestart(bool r) { restart_ = r; }
-    bool restarting() const { return restart_; }
-
     /// Steps 1-2: the prediction (a first frame at `T_map_lidar0`) and the features.
     void begin(const Scan& scan, const SE3d& T_map_lidar0, Frame& f);
     /// Whether the frame's velocity is unknown (doc/localizer.md "Unknown velocity": a first
@@ -86,9 +82,11 @@ class Tracker {
     FrameSolution solveFrom(Frame& f, const fusion::FrameState& start, VerifyAs as, const TrackReport& base);
     /// The frame is final at `state` (its solution's, or a restart's): what the next frame starts
     /// from. `sol`: the frame's final solution (marginal, fusion evidence); `requested`: the
-    /// frame was localized without a pose; `pending`: a relocalization is still asked for.
+    /// frame was localized without a pose; `pending`: a relocalization is still asked for;
+    /// `restart`: the next frame starts with its velocity unknown (a relocalization, a restart
+    /// from the last frame not lost: Recovery::endFrame).
     void end(const Frame& f, const fusion::FrameState& state, const FrameSolution& sol, const FrameReport& rep,
-             bool requested, bool pending);
+             bool requested, bool pending, bool restart);
     /// A frame whose own registration is in doubt (not converged, or fitting clearly worse than
     /// the map gives: health's checks) keeps what it knew without its scan: `sol`'s posterior
     /// becomes that (what end() carries on), and its covariance, as posterior() reports it, is
