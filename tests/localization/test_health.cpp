@@ -20,25 +20,34 @@ FrameReport tracked(double inliers) {
     r.inlier_ratio = inliers;
     return r;
 }
+/// The monitor's judge() on a report, as the Localizer makes it: its state, and its reasons and
+/// checks when asked.
+Health classify(const HealthMonitor& h, const FrameReport& r, std::string* why = nullptr,
+                HealthChecks* checks = nullptr) {
+    const Verdict v = h.judge()(r);
+    if (why) *why = v.reason;
+    if (checks) *checks = v.checks;
+    return v.health;
+}
 }  // namespace
 
 TEST(Health, EachCheckAlone) {
     HealthMonitor h;
     FrameReport r = tracked(0.9);
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     std::string why;
     r.diverged = true;
     r.diverged_reason = Divergence::NoCorrespondences;
-    EXPECT_EQ(h.classify(r, &why), Health::Lost);
+    EXPECT_EQ(classify(h, r, &why), Health::Lost);
     EXPECT_EQ(why, "no_correspondences");
     r.diverged_reason = Divergence::JumpRejected;  // the IMU prediction was kept: degraded, not lost
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     r = tracked(0.9);
     r.converged = false;
     r.last_step_xyz = 0.005;  // out of rounds but settling: fine
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     r.last_step_xyz = 0.05;   // still moving
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     EXPECT_EQ(why, "not_converged");
     r = tracked(0.9);
     r.gamma[0] = 0.25;  // below weak_gamma 0.3: an axis the scan holds weakly...
@@ -46,46 +55,46 @@ TEST(Health, EachCheckAlone) {
     r.cov = Mat6d::Identity() * 0.03 * 0.03;  // ...but the pose is known to 3 cm (IMU, odom_alt)
     r.cov.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * std::pow(0.2 * kDeg, 2);
     HealthChecks checks;
-    EXPECT_EQ(h.classify(r, &why, &checks), Health::Ok);
+    EXPECT_EQ(classify(h, r, &why, &checks), Health::Ok);
     EXPECT_TRUE(checks.weak[0] && checks.weak[5] && !checks.weak[1]);  // reported all the same
     // The pose's std above [health] max_sigma_xyz (0.1 m) along any direction, or its rotation's
     // above max_sigma_deg (1 deg): degraded.
     const Eigen::Vector3d u = Eigen::Vector3d(1, 1, 0).normalized();
     r.cov.topLeftCorner<3, 3>() += 0.12 * 0.12 * u * u.transpose();
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     EXPECT_EQ(why, "sigma_xyz");
     r.cov.topLeftCorner<3, 3>() = Eigen::Matrix3d::Identity() * 0.03 * 0.03;
     r.cov(5, 5) = std::pow(1.5 * kDeg, 2);
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     EXPECT_EQ(why, "sigma_rot");
     r = tracked(0.9);
     r.used_imu = true;
     r.pred_dxyz = 0.5;
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     EXPECT_EQ(why, "prediction");
     r.used_imu = false;  // a constant-velocity prediction may be far off rightly
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     // A slow drift from the gyro's rotation over [health] drift_window (1 s): above 1.5 deg.
     r = tracked(0.9);
     r.used_imu = true;
     r.imu_drift_deg = 1.4;
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     r.imu_drift_deg = 2.0;
-    EXPECT_EQ(h.classify(r, &why), Health::Degraded);
+    EXPECT_EQ(classify(h, r, &why), Health::Degraded);
     EXPECT_EQ(why, "drift");
     r.used_imu = false;  // no gyro to compare with
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     HealthParams off;
     off.drift_window = 0;
     r.used_imu = true;
-    EXPECT_EQ(HealthMonitor(off).classify(r), Health::Ok);
+    EXPECT_EQ(classify(HealthMonitor(off), r), Health::Ok);
 }
 
 TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
     HealthMonitor h;
     FrameReport r = tracked(0.5);
     // No reference yet: a low inlier ratio alone is not judged.
-    EXPECT_EQ(h.classify(r), Health::Ok);
+    EXPECT_EQ(classify(h, r), Health::Ok);
     for (double v : {0.9, 0.92, 0.88, 0.91}) {
         FrameReport t = tracked(v);
         t.setVerdict(h.judge()(t));
@@ -94,10 +103,10 @@ TEST(Health, InlierChecksAreRelativeToTheRunsReference) {
     }
     EXPECT_NEAR(h.reference(), 0.91, 1e-9);  // median of 0.88 0.9 0.91 0.92 (upper middle)
     std::string why;
-    EXPECT_EQ(h.classify(tracked(0.85)), Health::Ok);                   // > 0.9 x 0.91
-    EXPECT_EQ(h.classify(tracked(0.7), &why), Health::Degraded);        // < 0.9 x, > 0.6 x
+    EXPECT_EQ(classify(h, tracked(0.85)), Health::Ok);                   // > 0.9 x 0.91
+    EXPECT_EQ(classify(h, tracked(0.7), &why), Health::Degraded);        // < 0.9 x, > 0.6 x
     EXPECT_EQ(why, "inliers");
-    EXPECT_EQ(h.classify(tracked(0.5), &why), Health::Lost);            // < 0.6 x 0.91
+    EXPECT_EQ(classify(h, tracked(0.5), &why), Health::Lost);            // < 0.6 x 0.91
     // A degraded frame does not pull the reference down.
     FrameReport low = tracked(0.7);
     low.setVerdict(h.judge()(low));

@@ -158,13 +158,6 @@ Verdict HealthJudge::operator()(const FrameReport& r) const {
     return v;
 }
 
-Health HealthMonitor::classify(const FrameReport& r, std::string* reason, HealthChecks* checks) const {
-    const Verdict v = judge()(r);
-    if (reason) *reason = v.reason;
-    if (checks) *checks = v.checks;
-    return v.health;
-}
-
 Verdict HealthJudge::amend(Verdict v, HealthEvidence e) const {
     switch (e) {
         case HealthEvidence::Unconfirmed:

@@ -132,8 +132,9 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     Verdict verdict;
     bool restart = false;  // the next frame starts with its velocity unknown
     // A decision of the Recovery: a pose it took replaces the frame's solve (the frame keeps its
-    // own times) and is judged afresh (unless it keeps the frame's verdict); a lost frame may report the best pose found; what the
-    // search did and its times; then the evidence, in order. The last pose taken decides the restart.
+    // own times) and is judged afresh (unless it keeps the frame's verdict); a lost frame may
+    // report the best pose found; what the search did and its times; then the evidence, in
+    // order. The last pose taken decides the restart.
     const auto apply = [&](RecoveryDecision d) {
         if (d.taken) {
             const StageTimes ms = rep.ms;

@@ -45,17 +45,14 @@ RecoveryDecision Recovery::withoutPose(Frame& f, const OwnPose& own, const Healt
         if (d.reloc) searched = *d.reloc;
     }
     if (tracking && d.outcome != RelocOutcome::Accepted) {
+        // The candidates decide; the search's time stays, and so does the pose it showed unless
+        // the candidates show or take one.
         RecoveryDecision c = candidates_.decide(f, own.rep, searched, judge);
-        d.outcome = c.outcome;
-        d.reloc = std::move(c.reloc);
-        if (c.shown) d.shown = c.shown;
-        if (c.taken) {
-            d.taken = std::move(c.taken);
-            d.recovered = true;
-            d.shown.reset();
-            // The next frame starts coarse, as after any relocalization of a lost frame.
-            d.restart = true;
-        }
+        c.ms += d.ms;
+        if (!c.taken && !c.shown) c.shown = d.shown;
+        // The next frame starts coarse, as after any relocalization of a lost frame.
+        c.restart = c.taken.has_value();
+        d = std::move(c);
     }
     if (d.outcome == RelocOutcome::Accepted) pending_ = false, doubt_ = false, candidates_.clear();
     return d;
@@ -65,7 +62,7 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
     // Lost for local_after_lost frames searches around the last pose not lost, for
     // global_after_lost frames the whole map.
     const auto& rp = params_.relocalization;
-    RecoveryDecision d;
+    std::vector<HealthEvidence> evidence;
     lost_run_ = own.verdict.health == Health::Lost ? lost_run_ + 1 : 0;
     // A frame that stands but whose registration is in doubt (degraded: it fits clearly worse
     // than this map gives when tracking is right, or did not settle in its rounds) gets the
@@ -79,7 +76,7 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
     Verdict v = own.verdict;
     if (unconfirmed) {
         v = judge.amend(v, HealthEvidence::Unconfirmed);
-        d.evidence.push_back(HealthEvidence::Unconfirmed);
+        evidence.push_back(HealthEvidence::Unconfirmed);
     }
     // A frame that fits clearly worse is searched whatever its risk says (its gamma was measured
     // at a pose that may be wrong); one only unsettled is not where the scan leaves a translation
@@ -88,28 +85,29 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
         v.health == Health::Degraded && (c.badFit() || ((c.inDoubt() || unconfirmed) && !c.weakTranslation()));
     if (!(search_ && may_search && (lost_run_ >= rp.local_after_lost || suspicious))) {
         if (c.inDoubt() || v.health == Health::Lost) doubt_ = true;
+        RecoveryDecision d;
+        d.evidence = std::move(evidence);
         return d;
     }
     const auto region = lostRegion(f.scan->t, lost_run_);
     RecoveryDecision s = search(f, region ? &*region : nullptr, OwnPose{own.sol, own.rep, v}, judge);
     switch (s.outcome) {
         case RelocOutcome::Accepted:
-            // The pose taken is judged afresh (the evidence so far was about the frame's own);
-            // it was verified, so not lost.
-            s.evidence.clear();
+            // The pose taken is judged afresh: the evidence so far was about the frame's own and
+            // does not go with it. It was verified, so not lost.
             lost_run_ = 0;
             doubt_ = false;
             return s;
         case RelocOutcome::NotBetter:
             // Nothing around fits better: the frame's own pose is confirmed.
             doubt_ = false;
-            if (unconfirmed) d.evidence.push_back(HealthEvidence::Confirmed);
+            if (unconfirmed) evidence.push_back(HealthEvidence::Confirmed);
             break;
         default:
             if (c.inDoubt()) doubt_ = true;
             break;
     }
-    s.evidence = std::move(d.evidence);
+    s.evidence = std::move(evidence);
     return s;
 }
 

@@ -134,11 +134,11 @@ class HealthJudge {
     /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
     double reference() const { return reference_; }
     const HealthParams& params() const { return *p_; }
-    /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
-    bool notConverged(const FrameReport& r) const;
 
    private:
     HealthChecks check(const FrameReport& r) const;
+    /// Ran out of rounds while still moving (HealthParams::settled_xyz / settled_deg).
+    bool notConverged(const FrameReport& r) const;
     const HealthParams* p_;
     double reference_;
 };
@@ -151,9 +151,6 @@ class HealthMonitor {
     explicit HealthMonitor(const HealthParams& p = {}) : p_(p) {}
     /// The checks for the current frame, against the run's reference as it stands.
     HealthJudge judge() const { return HealthJudge(p_, reference()); }
-    /// judge()'s verdict on a report, its state alone (and the failed checks in `reason`,
-    /// `checks`): what a report would get, without touching the reference.
-    Health classify(const FrameReport& rep, std::string* reason = nullptr, HealthChecks* checks = nullptr) const;
     /// The reference inlier ratio, 0 while fewer than reference_min_frames were tracked.
     double reference() const;
     const HealthParams& params() const { return p_; }
