@@ -400,3 +400,33 @@ TEST(PriorWeight, CapByOdomAltCovariance) {
     EXPECT_NEAR(capped[3], 1 / std::pow(0.01 * kDeg, 2), 1e-3);
     EXPECT_EQ(capped[5], 10);
 }
+
+TEST(ActiveFusion, PaperPriorsWorthForTheCovarianceIsCappedByThePassiveStd) {
+    // superloc_paper weighs odom_alt in the solve by the scan's own information (W = (1 - gamma)
+    // s); the pose's covariance takes it at no more than the passive prior's per-frame std, else a
+    // blind axis reports the scan's millimetres while odom_alt drifts metres (the wander sweep:
+    // `ok` while > 0.5 m off).
+    ActiveFusionParams ap;
+    const localization::OdomFusionPaper paper(ap);
+    std::vector<Correspondence> corr;
+    localization::FusionFrame f;
+    f.corr = &corr;
+    f.odom_delta = SE3d::Identity();
+    f.scan_H = 1e6 * Mat6d::Identity();  // a stiff scan: s = 1e6 on every axis
+    risk::RiskReport r;
+    r.gamma << 0.0, 0.5, 1, 1, 1, 1;  // x unconstrained, y half
+    const auto p = paper.prior(f, r);
+    ASSERT_TRUE(p.has_value());
+    ASSERT_TRUE(p->worth.has_value());
+    EXPECT_NEAR(p->sqrt_info(0, 0), 1e3, 1e-6);              // the solve: W_x = s
+    EXPECT_NEAR(p->sqrt_info(1, 1), std::sqrt(0.5e6), 1e-6);  // W_y = 0.5 s
+    const Vec6d passive = passiveInformation(ap);
+    EXPECT_NEAR((*p->worth)(0, 0), passive[0], 1e-9);  // the covariance: 2 cm per frame
+    EXPECT_NEAR((*p->worth)(1, 1), passive[1], 1e-9);
+    EXPECT_EQ((*p->worth)(2, 2), 0.0);  // held by the scan: no prior
+    // A weight below the passive one is kept as it is.
+    f.scan_H = 100.0 * Mat6d::Identity();
+    const auto q = paper.prior(f, r);
+    ASSERT_TRUE(q && q->worth);
+    EXPECT_NEAR((*q->worth)(0, 0), 100.0, 1e-9);
+}

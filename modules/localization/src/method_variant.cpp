@@ -90,6 +90,11 @@ std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFram
     fusion::RelativePosePrior p;
     p.delta = *f.odom_delta;
     p.sqrt_info = fusion::sqrtInfo(W);
+    // W is the paper's weight (the scan's own information per axis), not what odom_alt is worth:
+    // the pose's covariance takes odom_alt at no more than the per-frame std the passive prior
+    // is configured with (passive_sigma_*), else a blind axis reports the scan's millimetres
+    // while the odometry drifts metres (doc/method.md §4).
+    p.worth = Mat6d(W.cwiseMin(fusion::passiveInformation(p_)).asDiagonal());
     return p;
 }
 

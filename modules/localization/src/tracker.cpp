@@ -217,6 +217,18 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     Prediction p = frame_pred ? *frame_pred : Prediction{};
     p.T_map_imu = start.T_map_imu();
     finish(f, p, true, sol);
+    if (!frame_pred && have_prev_ && !f.first) {
+        // A hypothesis puts the body somewhere else, it does not change how the body moves: its
+        // velocity is the frame's predicted one (the IMU's; without IMU the last frame's) in the
+        // body, turned with the pose. finish()'s difference from the last pose would carry the
+        // search's correction as a speed (a 2.2 m correction at 10 Hz: 22 m/s), which the next
+        // frame's IMU window then pours into the accelerometer bias (1.7 m/s^2 on the wander
+        // sweep's L = 15 m seed 5, and 12 m off at the end of the next blind stretch).
+        const SE3d& T_ref = f.pred.used_imu ? f.pred.T_map_imu : f.prev.T_map_imu();
+        const Vec3d v_ref = f.pred.used_imu ? f.pred.v : f.prev.velocity();
+        sol.state.setVelocity(sol.state.T_map_imu().linear() * (T_ref.linear().transpose() * v_ref));
+        sol.report.velocity = sol.state.velocity();
+    }
     scanCovariance(sol);  // a verified pose: its own scan's (doc/method.md §4)
     return sol;
 }
