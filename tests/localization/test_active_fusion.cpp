@@ -123,6 +123,38 @@ TEST(PriorWeight, ScanInformationMatchesNumericBodyJacobian) {
     EXPECT_NEAR(s[5], tr_r / 3, 1e-9);
 }
 
+TEST(PriorWeight, ScanInformationIsTheResidualsJacobianTurnedBitForBit) {
+    // scanInformation takes each row from correspondenceBodyJacobian (no residual computed):
+    // the same products as correspondenceResidual's Jacobian with its translation turned by R^T,
+    // so H is the same to the bit, for planes, lines and points (the pose covariance and the
+    // weighting read it three times a frame: doc/results.md "Cost of the risk and the weighting").
+    const SE3d T = makePoseRPY(3, -1, 0.5, 0.1, -0.2, 0.7);
+    std::vector<Correspondence> corr, unused;
+    castCorridor(T, corr, unused, 12, 4);
+    ASSERT_GT(corr.size(), 20u);
+    for (size_t i = 0; i < corr.size(); ++i) {
+        corr[i].weight = 0.2 + 0.1 * static_cast<double>(i % 7);
+        if (i % 3 == 1) corr[i].type = FeatureType::Line, corr[i].n = Vec3d(0.3, -0.8, 0.52).normalized();
+        if (i % 3 == 2) corr[i].type = FeatureType::Point;
+    }
+    const Mat3d R = T.linear();
+    Mat6d Hr = Mat6d::Zero();
+    double r[3], J[18];
+    for (const auto& c : corr) {
+        correspondenceResidual(c, R, T.translation(), r, J);
+        for (int k = 0; k < residualDim(c.type); ++k) {
+            Vec6d row = Eigen::Map<const Vec6d>(J + 6 * k);
+            row.head<3>() = R.transpose() * row.head<3>();
+            Hr.noalias() += c.weight * row * row.transpose();
+        }
+    }
+    const double sigma = 0.05;
+    Hr /= sigma * sigma;
+    const Mat6d H = scanInformation(corr, T, sigma);
+    for (int i = 0; i < 6; ++i)
+        for (int k = 0; k < 6; ++k) EXPECT_EQ(H(i, k), Hr(i, k)) << i << "," << k;
+}
+
 TEST(PriorWeight, CorridorPriorWinsOnXOnly) {
     // Issue 5 "Must show": in a corridor (x unobservable) a relative-pose prior that disagrees
     // along x by 20 cm, weighted W = diag(max(0, 1 - gamma)) s, sets x, and moves the healthy

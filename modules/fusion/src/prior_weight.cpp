@@ -84,16 +84,14 @@ Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, do
     // I].
     const Mat3d R = T.linear();
     Mat6d H = Mat6d::Zero();
-    double r[3], J[18];
+    double J[18];
     for (size_t i = 0; i < corr.size(); ++i) {
         const double w = sqrt_w && i < sqrt_w->size() ? (*sqrt_w)[i] * (*sqrt_w)[i]
                                                       : std::max(0.0, corr[i].weight);
         if (!(w > 0)) continue;
-        correspondenceResidual(corr[i], R, T.translation(), r, J);
-        const int d = residualDim(corr[i].type);
+        const int d = correspondenceBodyJacobian(corr[i], R, J);
         for (int k = 0; k < d; ++k) {
-            Vec6d row = Eigen::Map<const Vec6d>(J + 6 * k);
-            row.head<3>() = R.transpose() * row.head<3>();
+            const Eigen::Map<const Vec6d> row(J + 6 * k);
             H.noalias() += w * row * row.transpose();
         }
     }

@@ -69,6 +69,32 @@ void correspondenceResidual(const Correspondence& c, const Mat3d& R, const Vec3d
     }
 }
 
+int correspondenceBodyJacobian(const Correspondence& c, const Mat3d& R, double* J) {
+    // The rows of correspondenceResidual's Jacobian with the translation turned into the body,
+    // [R^T a ; p x (R^T a)], without the residual: the same products, so the same bits.
+    const auto row = [&](const Vec3d& a, double* Jrow) {
+        const Vec3d b = R.transpose() * a;
+        const Vec3d rot = c.p.cross(b);
+        Jrow[0] = b.x(), Jrow[1] = b.y(), Jrow[2] = b.z();
+        Jrow[3] = rot.x(), Jrow[4] = rot.y(), Jrow[5] = rot.z();
+    };
+    switch (c.type) {
+        case FeatureType::Plane:
+            row(c.n, J);
+            return 1;
+        case FeatureType::Line: {
+            Vec3d e1, e2;
+            lineBasis(c.n, e1, e2);
+            row(e1, J), row(e2, J + 6);
+            return 2;
+        }
+        case FeatureType::Point:
+            for (int k = 0; k < 3; ++k) row(Vec3d::Unit(k), J + 6 * k);
+            return 3;
+    }
+    return 0;
+}
+
 double correspondenceError(const Correspondence& c, const SE3d& T) {
     double r[3];
     correspondenceResidual(c, T.linear(), T.translation(), r, nullptr);

@@ -35,6 +35,10 @@ int residualDim(FeatureType t);
 /// when J is not null, its Jacobian w.r.t. [dt, dtheta] (row-major, residualDim x 6).
 void correspondenceResidual(const Correspondence& c, const Mat3d& R, const Vec3d& t,
                             double* r, double* J);
+/// The Jacobian of correspondenceResidual w.r.t. a body perturbation [dt (body), dtheta] (its
+/// translation rows turned by R^T), without the residual, into J (row-major, residualDim x 6);
+/// returns residualDim.
+int correspondenceBodyJacobian(const Correspondence& c, const Mat3d& R, double* J);
 /// Norm of the unweighted residual (point-to-plane distance etc.).
 double correspondenceError(const Correspondence& c, const SE3d& T_map_imu);
 
