@@ -35,64 +35,49 @@ void lineBasis(const Vec3d& d, Vec3d& e1, Vec3d& e2) {
     e1 = d.cross(a).normalized();
     e2 = d.cross(e1);
 }
+
+/// The map-frame directions a residual of `c` measures along (plane: its normal; line: two
+/// directions across it; point: the map axes) into a; returns residualDim.
+int residualAxes(const Correspondence& c, Vec3d* a) {
+    switch (c.type) {
+        case FeatureType::Plane: a[0] = c.n; return 1;
+        case FeatureType::Line: lineBasis(c.n, a[0], a[1]); return 2;
+        case FeatureType::Point:
+            for (int k = 0; k < 3; ++k) a[k] = Vec3d::Unit(k);
+            return 3;
+    }
+    return 0;
+}
+/// One Jacobian row along a: [a (map) or R^T a (body) ; p x (R^T a)], since for a row vector
+/// a^T (-R [p]x) = (p x (R^T a))^T.
+void jacobianRow(const Vec3d& p, const Mat3d& R, const Vec3d& a, bool body, double* Jrow) {
+    const Vec3d b = R.transpose() * a;
+    const Vec3d rot = p.cross(b);
+    const Vec3d& tr = body ? b : a;
+    Jrow[0] = tr.x(), Jrow[1] = tr.y(), Jrow[2] = tr.z();
+    Jrow[3] = rot.x(), Jrow[4] = rot.y(), Jrow[5] = rot.z();
+}
 }  // namespace
 
 void correspondenceResidual(const Correspondence& c, const Mat3d& R, const Vec3d& t,
                             double* r, double* J) {
-    const Vec3d Rp = R * c.p;
-    const Vec3d e = Rp + t - c.q;
-    // dx/d dtheta = -R [p]x ; for a row vector a: a^T (-R [p]x) = (p x (R^T a))^T.
-    const auto row = [&](const Vec3d& a, double* Jrow) {
-        const Vec3d rot = c.p.cross(R.transpose() * a);
-        Jrow[0] = a.x(), Jrow[1] = a.y(), Jrow[2] = a.z();
-        Jrow[3] = rot.x(), Jrow[4] = rot.y(), Jrow[5] = rot.z();
-    };
-    switch (c.type) {
-        case FeatureType::Plane:
-            r[0] = c.n.dot(e);
-            if (J) row(c.n, J);
-            break;
-        case FeatureType::Line: {
-            Vec3d e1, e2;
-            lineBasis(c.n, e1, e2);
-            r[0] = e1.dot(e);
-            r[1] = e2.dot(e);
-            if (J) row(e1, J), row(e2, J + 6);
-            break;
-        }
-        case FeatureType::Point:
-            for (int k = 0; k < 3; ++k) {
-                r[k] = e[k];
-                if (J) row(Vec3d::Unit(k), J + 6 * k);
-            }
-            break;
+    const Vec3d e = R * c.p + t - c.q;
+    Vec3d a[3];
+    const int d = residualAxes(c, a);
+    for (int k = 0; k < d; ++k) {
+        // A point's residual is e itself (not a dot with a unit axis: 0 * inf would be NaN).
+        r[k] = c.type == FeatureType::Point ? e[k] : a[k].dot(e);
+        if (J) jacobianRow(c.p, R, a[k], false, J + 6 * k);
     }
 }
 
 int correspondenceBodyJacobian(const Correspondence& c, const Mat3d& R, double* J) {
-    // The rows of correspondenceResidual's Jacobian with the translation turned into the body,
-    // [R^T a ; p x (R^T a)], without the residual: the same products, so the same bits.
-    const auto row = [&](const Vec3d& a, double* Jrow) {
-        const Vec3d b = R.transpose() * a;
-        const Vec3d rot = c.p.cross(b);
-        Jrow[0] = b.x(), Jrow[1] = b.y(), Jrow[2] = b.z();
-        Jrow[3] = rot.x(), Jrow[4] = rot.y(), Jrow[5] = rot.z();
-    };
-    switch (c.type) {
-        case FeatureType::Plane:
-            row(c.n, J);
-            return 1;
-        case FeatureType::Line: {
-            Vec3d e1, e2;
-            lineBasis(c.n, e1, e2);
-            row(e1, J), row(e2, J + 6);
-            return 2;
-        }
-        case FeatureType::Point:
-            for (int k = 0; k < 3; ++k) row(Vec3d::Unit(k), J + 6 * k);
-            return 3;
-    }
-    return 0;
+    // correspondenceResidual's rows with the translation turned into the body, without the
+    // residual: the same products, so the same bits.
+    Vec3d a[3];
+    const int d = residualAxes(c, a);
+    for (int k = 0; k < d; ++k) jacobianRow(c.p, R, a[k], true, J + 6 * k);
+    return d;
 }
 
 double correspondenceError(const Correspondence& c, const SE3d& T) {

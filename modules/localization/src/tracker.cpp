@@ -216,19 +216,13 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
     Prediction p = frame_pred ? *frame_pred : Prediction{};
     p.T_map_imu = start.T_map_imu();
-    finish(f, p, true, sol);
     if (!frame_pred && have_prev_ && !f.first) {
-        // A hypothesis puts the body somewhere else, it does not change how the body moves: its
-        // velocity is the frame's predicted one (the IMU's; without IMU the last frame's) in the
-        // body, turned with the pose. finish()'s difference from the last pose would carry the
-        // search's correction as a speed (a 2.2 m correction at 10 Hz: 22 m/s), which the next
-        // frame's IMU window then pours into the accelerometer bias (1.7 m/s^2 on the wander
-        // sweep's L = 15 m seed 5, and 12 m off at the end of the next blind stretch).
+        // A hypothesis puts the body somewhere else, it does not change how the body moves: the
+        // frame's predicted velocity (the IMU's; without IMU the last frame's) in the body.
         const SE3d& T_ref = f.pred.used_imu ? f.pred.T_map_imu : f.prev.T_map_imu();
-        const Vec3d v_ref = f.pred.used_imu ? f.pred.v : f.prev.velocity();
-        sol.state.setVelocity(sol.state.T_map_imu().linear() * (T_ref.linear().transpose() * v_ref));
-        sol.report.velocity = sol.state.velocity();
+        p.keep_v_body = T_ref.linear().transpose() * (f.pred.used_imu ? f.pred.v : f.prev.velocity());
     }
+    finish(f, p, true, sol);
     scanCovariance(sol);  // a verified pose: its own scan's (doc/method.md §4)
     return sol;
 }
@@ -270,7 +264,13 @@ void Tracker::finish(const Frame& f, const Prediction& pred, bool unchecked, Fra
         rep.diverged = true;
         rep.diverged_reason = Divergence::Inliers;
     }
-    if (!pred.used_imu && !rejected) {
+    if (pred.keep_v_body) {
+        // A hypothesis from another pose: the difference from the last pose would carry the
+        // search's correction as a speed (a 2.2 m correction at 10 Hz: 22 m/s), which the next
+        // frame's IMU window then pours into the accelerometer bias (1.7 m/s^2 on the wander
+        // sweep's L = 15 m seed 5, and 12 m off at the end of the next blind stretch).
+        sol.state.setVelocity(T.linear() * *pred.keep_v_body);
+    } else if (!pred.used_imu && !rejected) {
         // Without IMU the velocity is the finite difference of the estimates. The first frame's
         // is zero, or the sweep's (sweepVelocity: the IMU body's, in the map) when it was
         // estimated; the next frame then holds it by the fixed prior (the solve's marginal was

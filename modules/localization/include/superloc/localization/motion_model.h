@@ -24,6 +24,9 @@ struct Prediction {
     bool twist_from_imu = false;   ///< deskew twist measured by the IMU
     bool at_rest = false;          ///< first frame: the IMU says the robot is at rest (velocity 0)
     bool from_odom = false;        ///< no IMU: predicted by odom_alt's motion (OdomFusion::motion)
+    /// A hypothesis placed away from the last pose (Tracker::solveFrom): its velocity is this body
+    /// velocity turned with its pose, not the difference from the last pose
+    std::optional<Vec3d> keep_v_body;
 };
 
 /// A frame after the first, at time t, from the last state `prev` (and the one before it, for
