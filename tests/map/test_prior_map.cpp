@@ -265,3 +265,23 @@ TEST(PriorMap, NonFinitePointsAreDropped) {
     EXPECT_EQ(map.size(), n - 2);
     for (const auto& p : map.points()) ASSERT_TRUE(p.allFinite());
 }
+
+TEST(PriorMap, GeometryPreparedAtLoadIsTheFirstUsesGeometryBitForBit) {
+    // [map] geometry_at_load: every point's geometry computed up front on several threads (blocks
+    // of 4096 points from a shared counter) is what the first query of each point computes.
+    const PriorMap lazy(cylinderCloud(2.0f), params(0.01));
+    const PriorMap ready(cylinderCloud(2.0f), params(0.01));
+    ASSERT_GT(lazy.size(), 3u * 4096u) << "too few points for the helper threads to get a block";
+    EXPECT_GE(ready.prepareGeometry(3), 0.0);
+    for (size_t i = 0; i < lazy.size(); ++i) {
+        const PointGeometry &a = lazy.geometry(i), &b = ready.geometry(i);
+        ASSERT_EQ(a.normal, b.normal) << "point " << i;
+        ASSERT_EQ(a.planarity, b.planarity) << "point " << i;
+        ASSERT_EQ(a.linearity, b.linearity) << "point " << i;
+        ASSERT_EQ(a.fit_residual, b.fit_residual) << "point " << i;
+        ASSERT_EQ(a.oriented, b.oriented) << "point " << i;
+    }
+    // Prepared twice: nothing left to compute, nothing changed.
+    EXPECT_GE(ready.prepareGeometry(2), 0.0);
+    EXPECT_EQ(ready.geometry(7).normal, lazy.geometry(7).normal);
+}

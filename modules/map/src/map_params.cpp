@@ -17,6 +17,7 @@ void MapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     MRPT_LOAD_CONFIG_VAR(reg_min_points, int, c, s);
     MRPT_LOAD_CONFIG_VAR(tile_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(tile_reload, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(geometry_at_load, bool, c, s);
 }
 
 void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -29,6 +30,7 @@ void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(reg_min_points, "voxels with fewer map points are dropped");
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_radius, "[m] tiled map: tiles within this x-y distance of the robot are loaded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_reload, "[m] tiled map: reload around the robot after moving this far");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(geometry_at_load, "every point's geometry computed at load on all cores (else by its first query)");
 }
 
 void MapParams::validate() const {

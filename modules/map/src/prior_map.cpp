@@ -111,6 +111,28 @@ void PriorMap::Impl::buildTree() {
     });
 }
 
+double PriorMap::prepareGeometry(unsigned threads) const {
+    mrpt::system::CTicTac timer;
+    Impl& m = *impl_;
+    m.buildTree();
+    const size_t n = m.points.size();
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    // Blocks of consecutive points (neighbours in the voxel filter's order share cache lines),
+    // taken from a shared counter; ensureGeometry already lets two threads meet on a point.
+    constexpr size_t kBlock = 4096;
+    std::atomic<size_t> next{0};
+    const auto work = [&m, &next, n] {
+        for (size_t b = next.fetch_add(kBlock); b < n; b = next.fetch_add(kBlock))
+            for (size_t i = b; i < std::min(n, b + kBlock); ++i) m.ensureGeometry(i);
+    };
+    std::vector<std::thread> helpers;
+    const size_t extra = std::min<size_t>(threads - 1, n / kBlock);
+    for (size_t t = 0; t < extra; ++t) helpers.emplace_back(work);
+    work();
+    for (auto& h : helpers) h.join();
+    return timer.Tac();
+}
+
 PriorMap::~PriorMap() = default;
 PriorMap::PriorMap(PriorMap&&) noexcept = default;
 PriorMap& PriorMap::operator=(PriorMap&&) noexcept = default;

@@ -28,6 +28,10 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     // are loaded, again whenever it has moved tile_reload from the last centre (doc/map.md).
     double tile_radius = 150;   ///< [m]
     double tile_reload = 40;    ///< [m]
+    /// Every point's geometry (and the kd-tree) computed when the map is loaded, on all cores,
+    /// instead of by the first query that meets the point (PriorMap::prepareGeometry): a frame
+    /// then pays for no geometry. The values are the same either way.
+    bool geometry_at_load = false;
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
 
@@ -77,6 +81,10 @@ class PriorMap {
     /// Per-point PCA geometry (normal_k neighbours within normal_max_radius), computed by the
     /// first call for that point; thread-safe. Throws std::out_of_range for a bad index.
     const PointGeometry& geometry(size_t i) const;
+    /// Builds the kd-tree and computes every point's geometry now, on `threads` threads (0: one
+    /// per core), so that no later query pays for it. The same values as computed on first use.
+    /// Returns the seconds it took.
+    double prepareGeometry(unsigned threads = 0) const;
     /// The registration map (association of the localizer).
     const VoxelMap& voxels() const;
 
