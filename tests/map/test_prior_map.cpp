@@ -285,3 +285,21 @@ TEST(PriorMap, GeometryPreparedAtLoadIsTheFirstUsesGeometryBitForBit) {
     EXPECT_GE(ready.prepareGeometry(2), 0.0);
     EXPECT_EQ(ready.geometry(7).normal, lazy.geometry(7).normal);
 }
+
+TEST(PriorMap, GeometryAtLoadIsPreparedByTheConstructorWithTheViewpointsOrientation) {
+    // [map] geometry_at_load = true: the constructor builds the kd-tree and every point's geometry
+    // (its memory counts them before any query), oriented toward the viewpoint as a first query's.
+    MapParams at_load = params(0.02);
+    at_load.geometry_at_load = true;
+    const Vec3f viewpoint(0.0f, 0.0f, 1.0f);
+    const PriorMap lazy(cylinderCloud(2.0f), params(0.02), viewpoint);
+    const size_t lazy_bytes = lazy.memoryBytes();
+    const PriorMap ready(cylinderCloud(2.0f), at_load, viewpoint);
+    EXPECT_GT(ready.memoryBytes(), lazy_bytes + ready.size() * sizeof(PointGeometry) / 2)
+        << "the kd-tree and the geometry should exist before any query";
+    for (size_t i = 0; i < lazy.size(); ++i) {
+        ASSERT_EQ(ready.geometry(i).normal, lazy.geometry(i).normal) << "point " << i;
+        ASSERT_TRUE(ready.geometry(i).oriented) << "point " << i;
+    }
+    EXPECT_EQ(ready.memoryBytes(), lazy.memoryBytes());
+}

@@ -220,7 +220,6 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                           tiles->tiles().pointsLoaded(), tiles->tiles().radius(), c.x(), c.y());
     } else {
         prior = std::make_shared<map::PriorMap>(map::PriorMap::load(run_.map, map_));
-        if (map_.geometry_at_load) prior->prepareGeometry();
     }
     MRPT_LOG_INFO_FMT("map %s: %zu points, prepared in %.2f s", run_.map.c_str(), prior->size(),
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_map).count());

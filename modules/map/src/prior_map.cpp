@@ -99,6 +99,8 @@ PriorMap::PriorMap(
     impl_->given_normals = std::move(filtered.normals);
     impl_->viewpoint = viewpoint;
     impl_->voxels = VoxelMap(impl_->points, params.voxelMapParams());
+    // After the viewpoint and the given normals: they orient each point's normal.
+    if (params.geometry_at_load) prepareGeometry();
     impl_->prepare_seconds = timer.Tac();
 }
 

@@ -40,7 +40,6 @@ std::shared_ptr<const PriorMap> TiledMap::loadAround(const Vec3d& center) {
     points_loaded_ = all.size();
     center_ = center;
     auto map = std::make_shared<const PriorMap>(all, params_);
-    if (params_.geometry_at_load) map->prepareGeometry();
     last_seconds_ = timer.Tac();
     return map;
 }

@@ -28,9 +28,10 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     // are loaded, again whenever it has moved tile_reload from the last centre (doc/map.md).
     double tile_radius = 150;   ///< [m]
     double tile_reload = 40;    ///< [m]
-    /// Every point's geometry (and the kd-tree) computed when the map is loaded, on all cores,
-    /// instead of by the first query that meets the point (PriorMap::prepareGeometry): a frame
-    /// then pays for no geometry. The values are the same either way.
+    /// Every point's geometry (and the kd-tree) computed by the PriorMap's constructor, on all
+    /// cores (PriorMap::prepareGeometry; a tiled map's tiles too, as they are loaded), instead of
+    /// by the first query that meets the point: a frame then pays for no geometry. The values are
+    /// the same either way; prepareSeconds() includes the time.
     bool geometry_at_load = false;
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
@@ -63,7 +64,8 @@ struct Neighbors {
 
 class PriorMap {
    public:
-    /// Voxel-filters `cloud` (MapParams::voxel_size) and builds the registration voxel map.
+    /// Voxel-filters `cloud` (MapParams::voxel_size) and builds the registration voxel map (and,
+    /// with MapParams::geometry_at_load, the kd-tree and every point's geometry).
     /// The per-point geometry (built on first use) has its normals flipped toward `viewpoint`
     /// when given (else toward the cloud's own normals when it had some; else left unsigned).
     PriorMap(const PointCloud& cloud, const MapParams& params,
