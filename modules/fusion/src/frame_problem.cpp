@@ -39,11 +39,20 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
     ceres::CRSMatrix J;
     if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J) || J.num_cols != 30) return std::nullopt;
     // J^T J over each row's non-zeros only (a scan row touches the 6 columns of the current
-    // pose): 36 products per scan residual instead of a dense 30 x 30 update.
+    // pose): 36 products per scan residual instead of a dense 30 x 30 update. Each pair of a
+    // row once, into the lower triangle, then mirrored: J_ra J_rb and J_rb J_ra are the same
+    // product, summed over the rows in the same order, so the same bits as both halves summed.
     Eigen::Matrix<double, 30, 30> H = Eigen::Matrix<double, 30, 30>::Zero();
     for (int r = 0; r < J.num_rows; ++r)
-        for (int a = J.rows[r]; a < J.rows[r + 1]; ++a)
-            for (int b = J.rows[r]; b < J.rows[r + 1]; ++b) H(J.cols[a], J.cols[b]) += J.values[a] * J.values[b];
+        for (int a = J.rows[r]; a < J.rows[r + 1]; ++a) {
+            const int ca = J.cols[a];
+            const double va = J.values[a];
+            for (int b = a; b < J.rows[r + 1]; ++b) {
+                const int cb = J.cols[b];
+                H(std::max(ca, cb), std::min(ca, cb)) += va * J.values[b];
+            }
+        }
+    H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
     const Mat15d Hpp = H.topLeftCorner<15, 15>(), Hcc = H.bottomRightCorner<15, 15>();
     const Mat15d Hcp = H.bottomLeftCorner<15, 15>();
     // Hpp is positive definite: the previous state always has its prior.

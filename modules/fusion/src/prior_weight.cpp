@@ -83,17 +83,26 @@ Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, do
     // a body perturbation T Exp([u; dtheta]) moves the translation by R u, so J_body = J [R 0; 0
     // I].
     const Mat3d R = T.linear();
+    // Two passes per block of correspondences: their rows first, then the sums. Rows written one
+    // scalar at a time and read at once as packed pairs stalled on store forwarding; a block later
+    // the stores have retired. The same products and sums in the same order, so the same bits.
+    constexpr size_t kBlock = 64;
+    double J[kBlock][18], w[kBlock];
+    int d[kBlock];
     Mat6d H = Mat6d::Zero();
-    double J[18];
-    for (size_t i = 0; i < corr.size(); ++i) {
-        const double w = sqrt_w && i < sqrt_w->size() ? (*sqrt_w)[i] * (*sqrt_w)[i]
-                                                      : std::max(0.0, corr[i].weight);
-        if (!(w > 0)) continue;
-        const int d = correspondenceBodyJacobian(corr[i], R, J);
-        for (int k = 0; k < d; ++k) {
-            const Eigen::Map<const Vec6d> row(J + 6 * k);
-            H.noalias() += w * row * row.transpose();
+    for (size_t b = 0; b < corr.size(); b += kBlock) {
+        const size_t m = std::min(kBlock, corr.size() - b);
+        for (size_t j = 0; j < m; ++j) {
+            const size_t i = b + j;
+            w[j] = sqrt_w && i < sqrt_w->size() ? (*sqrt_w)[i] * (*sqrt_w)[i]
+                                                : std::max(0.0, corr[i].weight);
+            d[j] = w[j] > 0 ? correspondenceBodyJacobian(corr[i], R, J[j]) : 0;
         }
+        for (size_t j = 0; j < m; ++j)
+            for (int k = 0; k < d[j]; ++k) {
+                const Eigen::Map<const Vec6d> row(J[j] + 6 * k);
+                H.noalias() += w[j] * row * row.transpose();
+            }
     }
     return H / (sigma * sigma);
 }
