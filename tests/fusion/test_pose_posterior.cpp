@@ -5,6 +5,7 @@
 #include <superloc/fusion/prior_weight.h>
 
 #include <Eigen/Eigenvalues>
+#include <cmath>
 
 using namespace superloc;
 using namespace superloc::fusion;
@@ -280,34 +281,40 @@ std::vector<Correspondence> box(const Vec3d& c, double side, int n) {
 
 // A map error coherent over a cell moves a pose whose residuals all lie in that cell by the
 // whole of it (M = I), one spread evenly over N independent cells by 1/N of its variance; an
-// axis no residual holds takes none; M is in body axes; no cell size, no share.
+// axis the residuals do not hold above their noise floor takes the whole of it, as if one cell;
+// M is in body axes; no cell size, no share.
 TEST(MapShiftShare, OneCellTakesAllNCellsAlikeTakeANth) {
+    const double kNoise = std::pow(std::sin(4.0 * M_PI / 180), 2);  // [risk] normal_noise_deg
     const SE3d I = SE3d::Identity();
-    const Mat3d one = mapShiftShare(box(Vec3d(5, 5, 5), 4.0, 30), I, 10.0);
+    const Mat3d one = mapShiftShare(box(Vec3d(5, 5, 5), 4.0, 30), I, 10.0, kNoise);
     EXPECT_TRUE(one.isApprox(Mat3d::Identity(), 1e-9)) << one;
     std::vector<Correspondence> four;
     for (int c = 0; c < 4; ++c) {
         const auto b = box(Vec3d(5 + 10 * c, 5, 5), 4.0, 30);
         four.insert(four.end(), b.begin(), b.end());
     }
-    const Mat3d quarter = mapShiftShare(four, I, 10.0);
+    const Mat3d quarter = mapShiftShare(four, I, 10.0, kNoise);
     EXPECT_TRUE(quarter.isApprox(0.25 * Mat3d::Identity(), 1e-9)) << quarter;
     // The same four boxes within one 100 m cell: the whole shift again.
-    EXPECT_TRUE(mapShiftShare(four, I, 100.0).isApprox(Mat3d::Identity(), 1e-9));
-    // A corridor: walls (y) and floor (z) over four cells, nothing along x.
+    EXPECT_TRUE(mapShiftShare(four, I, 100.0, kNoise).isApprox(Mat3d::Identity(), 1e-9));
+    // A corridor: walls (y) and floor (z) over four cells, and along x only noise: normals 1 deg
+    // off y (below the 4 deg noise floor), spread over all four cells.
     std::vector<Correspondence> corridor;
-    for (const auto& c : four)
-        if (c.n.x() == 0) corridor.push_back(c);
-    const Mat3d M = mapShiftShare(corridor, I, 10.0);
-    EXPECT_NEAR(M(0, 0), 0.0, 1e-12);
-    EXPECT_NEAR(M(1, 1), 0.25, 1e-9);
+    for (auto c : four)
+        if (c.n.x() == 0) {
+            if (c.n.y() != 0) c.n = Vec3d(std::sin(M_PI / 180), std::cos(M_PI / 180), 0);
+            corridor.push_back(c);
+        }
+    const Mat3d M = mapShiftShare(corridor, I, 10.0, kNoise);
+    EXPECT_NEAR(M(0, 0), 1.0, 1e-3);
+    EXPECT_NEAR(M(1, 1), 0.25, 1e-3);
     EXPECT_NEAR(M(2, 2), 0.25, 1e-9);
     // Body axes: the body turned 90 deg about z sees the map's y as its x.
-    const Mat3d Mb = mapShiftShare(corridor, makePoseRPY(0, 0, 0, 0, 0, M_PI / 2), 10.0);
-    EXPECT_NEAR(Mb(0, 0), 0.25, 1e-9);
-    EXPECT_NEAR(Mb(1, 1), 0.0, 1e-12);
-    EXPECT_EQ(mapShiftShare(four, I, 0.0), Mat3d::Zero());
-    EXPECT_EQ(mapShiftShare({}, I, 10.0), Mat3d::Zero());
+    const Mat3d Mb = mapShiftShare(corridor, makePoseRPY(0, 0, 0, 0, 0, M_PI / 2), 10.0, kNoise);
+    EXPECT_NEAR(Mb(0, 0), 0.25, 1e-3);
+    EXPECT_NEAR(Mb(1, 1), 1.0, 1e-3);
+    EXPECT_EQ(mapShiftShare(four, I, 0.0, kNoise), Mat3d::Zero());
+    EXPECT_EQ(mapShiftShare({}, I, 10.0, kNoise), Mat3d::Zero());
 }
 
 // An IMU-deskewed frame's position floor is floor_xyz_imu^2 times the share, not on every axis;

@@ -44,7 +44,8 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
     return f;
 }
 
-Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell) {
+Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell,
+                    double floor_share) {
     if (!(cell > 0) || corr.empty()) return Mat3d::Zero();
     // Cells keyed by their integer coordinates; a scan spans tens of them.
     struct CellKey {
@@ -76,10 +77,16 @@ Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_i
     }
     const Eigen::SelfAdjointEigenSolver<Mat3d> es(H);
     if (es.info() != Eigen::Success || !(es.eigenvalues()[2] > 0)) return Mat3d::Zero();
-    Mat3d Hinv = Mat3d::Zero();
+    // The held directions (above the noise floor) and the projector on the others.
+    const double floor = std::max(1e-12, floor_share) * H.trace();
+    Mat3d Hinv = Mat3d::Zero(), unheld = Mat3d::Zero();
     for (int k = 0; k < 3; ++k) {
         const double l = es.eigenvalues()[k];
-        if (l > 1e-6 * es.eigenvalues()[2]) Hinv += es.eigenvectors().col(k) * es.eigenvectors().col(k).transpose() / l;
+        const Vec3d v = es.eigenvectors().col(k);
+        if (l > floor)
+            Hinv += v * v.transpose() / l;
+        else
+            unheld += v * v.transpose();
     }
     Mat3d S = Mat3d::Zero();
     for (const auto& kv : cells) S += kv.second * kv.second;
@@ -87,6 +94,7 @@ Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_i
     M = 0.5 * (M + M.transpose());
     const Eigen::SelfAdjointEigenSolver<Mat3d> em(M);
     M = em.eigenvectors() * em.eigenvalues().cwiseMax(0.0).cwiseMin(1.0).asDiagonal() * em.eigenvectors().transpose();
+    M += unheld;
     // Map axes to body axes (the covariance's translation is the body's).
     const Mat3d R = T_map_imu.linear();
     return R.transpose() * M * R;

@@ -19,7 +19,7 @@ double noiseFloorShare(const LocalizerParams& p) { return std::pow(std::sin(p.ri
 void Tracker::mapShare(FrameSolution& sol) const {
     const double cell = params_.fusion.active.cov_map_cell;
     if (cell > 0)
-        sol.map_share = fusion::mapShiftShare(sol.corr, sol.state.T_map_imu(), cell);
+        sol.map_share = fusion::mapShiftShare(sol.corr, sol.state.T_map_imu(), cell, noiseFloorShare(params_));
     else
         sol.map_share.reset();
 }

@@ -44,10 +44,13 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma);
 /// translation information of the residuals whose map anchors lie in cell c (weights as
 /// scanInformation's: plane normal, a line's two directions across it, a point's three axes), H
 /// their sum; a least-squares shift is H^-1 sum_c H_c w_c for cell shifts w_c. One cell: M = I
-/// (the pose moves with the map); N cells alike: I / N. H^-1 over the directions H holds above
-/// 1e-6 of its largest (nothing along the others: the information there is the IMU's or
-/// odom_alt's); eigenvalues capped at 1. Zero for no residuals or `cell` <= 0.
-Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell);
+/// (the pose moves with the map); N cells alike: I / N. Over the directions H holds above its
+/// noise floor (eigenvalue > `floor_share` x its trace, as informationAboveNoise), eigenvalues
+/// capped at 1; along the others the whole of it (M = 1: what the scan does not hold was carried
+/// from frames whose residuals averaged the map differently). Zero for no residuals or
+/// `cell` <= 0.
+Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell,
+                    double floor_share);
 
 class PosePosterior {
    public:
