@@ -5,7 +5,6 @@
 #include <superloc/fusion/prior_weight.h>
 
 #include <Eigen/Eigenvalues>
-#include <cmath>
 
 using namespace superloc;
 using namespace superloc::fusion;
@@ -260,78 +259,4 @@ TEST(SweepCovariance, FloorAheadAndBehindSeenAtDifferentTimesCouplesHeightWithPi
     const Mat6d once = sweepCovariance(floor, SE3d::Identity(), d, 0.05, 0.0049, carried);
     EXPECT_NEAR(once(2, 2), 0.0, 1e-6 * p2);
     EXPECT_NEAR(once(4, 4), 4.0 * p2, 0.01 * p2);
-}
-
-namespace {
-/// Plane correspondences: `n` of each axis's normal in a cube of side `side` centred at `c`.
-std::vector<Correspondence> box(const Vec3d& c, double side, int n) {
-    std::vector<Correspondence> out;
-    for (int k = 0; k < 3; ++k)
-        for (int i = 0; i < n; ++i) {
-            Correspondence x;
-            x.q = c + side * (Vec3d(0.1 + 0.8 * i / n, 0.3, 0.7) - Vec3d::Constant(0.5));
-            x.p = x.q;
-            x.n = Vec3d::Unit(k);
-            x.weight = 0.5 + 0.5 * (i % 2);
-            out.push_back(x);
-        }
-    return out;
-}
-}  // namespace
-
-// A map error coherent over a cell moves a pose whose residuals all lie in that cell by the
-// whole of it (M = I), one spread evenly over N independent cells by 1/N of its variance; an
-// axis the residuals do not hold above their noise floor takes the whole of it, as if one cell;
-// M is in body axes; no cell size, no share.
-TEST(MapShiftShare, OneCellTakesAllNCellsAlikeTakeANth) {
-    const double kNoise = std::pow(std::sin(4.0 * M_PI / 180), 2);  // [risk] normal_noise_deg
-    const SE3d I = SE3d::Identity();
-    const Mat3d one = mapShiftShare(box(Vec3d(5, 5, 5), 4.0, 30), I, 10.0, kNoise);
-    EXPECT_TRUE(one.isApprox(Mat3d::Identity(), 1e-9)) << one;
-    std::vector<Correspondence> four;
-    for (int c = 0; c < 4; ++c) {
-        const auto b = box(Vec3d(5 + 10 * c, 5, 5), 4.0, 30);
-        four.insert(four.end(), b.begin(), b.end());
-    }
-    const Mat3d quarter = mapShiftShare(four, I, 10.0, kNoise);
-    EXPECT_TRUE(quarter.isApprox(0.25 * Mat3d::Identity(), 1e-9)) << quarter;
-    // The same four boxes within one 100 m cell: the whole shift again.
-    EXPECT_TRUE(mapShiftShare(four, I, 100.0, kNoise).isApprox(Mat3d::Identity(), 1e-9));
-    // A corridor: walls (y) and floor (z) over four cells, and along x only noise: normals 1 deg
-    // off y (below the 4 deg noise floor), spread over all four cells.
-    std::vector<Correspondence> corridor;
-    for (auto c : four)
-        if (c.n.x() == 0) {
-            if (c.n.y() != 0) c.n = Vec3d(std::sin(M_PI / 180), std::cos(M_PI / 180), 0);
-            corridor.push_back(c);
-        }
-    const Mat3d M = mapShiftShare(corridor, I, 10.0, kNoise);
-    EXPECT_NEAR(M(0, 0), 1.0, 1e-3);
-    EXPECT_NEAR(M(1, 1), 0.25, 1e-3);
-    EXPECT_NEAR(M(2, 2), 0.25, 1e-9);
-    // Body axes: the body turned 90 deg about z sees the map's y as its x.
-    const Mat3d Mb = mapShiftShare(corridor, makePoseRPY(0, 0, 0, 0, 0, M_PI / 2), 10.0, kNoise);
-    EXPECT_NEAR(Mb(0, 0), 0.25, 1e-3);
-    EXPECT_NEAR(Mb(1, 1), 1.0, 1e-3);
-    EXPECT_EQ(mapShiftShare(four, I, 0.0, kNoise), Mat3d::Zero());
-    EXPECT_EQ(mapShiftShare({}, I, 10.0, kNoise), Mat3d::Zero());
-}
-
-// An IMU-deskewed frame's position floor is floor_xyz_imu^2 times the share, not on every axis;
-// the rotation's floor and a frame not deskewed along the IMU are as without a share.
-TEST(MapShiftShare, ScalesThePositionFloorOfAnImuDeskewedFrame) {
-    Vec6d fixed;
-    fixed << 0.01, 0.01, 0.01, 0.001, 0.001, 0.001;
-    const PosePosterior post(fixed, 0.0, 0.007);
-    const Mat6d info = Mat6d::Identity() * 1e12;  // the scan's own share: negligible
-    const Mat3d share = Vec3d(1.0, 0.25, 0.0).asDiagonal();
-    const Mat6d with = post.covariance(info, info, true, &share);
-    const Mat6d without = post.covariance(info, info, true);
-    EXPECT_NEAR(std::sqrt(with(0, 0)), 0.007, 1e-6);
-    EXPECT_NEAR(std::sqrt(with(1, 1)), 0.0035, 1e-6);
-    EXPECT_NEAR(with(2, 2), 0.0, 1e-11);
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(std::sqrt(without(k, k)), 0.007, 1e-6);
-    EXPECT_NEAR(with(4, 4), without(4, 4), 1e-15);
-    const Mat6d not_deskewed = post.covariance(info, info, false, &share);
-    EXPECT_NEAR(std::sqrt(not_deskewed(1, 1)), 0.01, 1e-6);
 }

@@ -7,8 +7,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <unordered_map>
 
 namespace superloc::fusion {
 
@@ -44,62 +42,6 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
     return f;
 }
 
-Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell,
-                    double floor_share) {
-    if (!(cell > 0) || corr.empty()) return Mat3d::Zero();
-    // Cells keyed by their integer coordinates; a scan spans tens of them.
-    struct CellKey {
-        int64_t x, y, z;
-        bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
-    };
-    struct CellHash {
-        size_t operator()(const CellKey& k) const {
-            return static_cast<size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
-        }
-    };
-    std::unordered_map<CellKey, Mat3d, CellHash> cells;
-    Mat3d H = Mat3d::Zero();
-    for (const Correspondence& c : corr) {
-        if (!(c.weight > 0) || !c.q.allFinite() || !c.n.allFinite()) continue;
-        Mat3d h;
-        switch (c.type) {
-            case FeatureType::Plane: h = c.n * c.n.transpose(); break;
-            case FeatureType::Line: h = Mat3d::Identity() - c.n * c.n.transpose(); break;
-            default: h = Mat3d::Identity(); break;
-        }
-        h *= c.weight;
-        const Vec3d g = (c.q / cell).array().floor();
-        if (!g.allFinite() || g.cwiseAbs().maxCoeff() > 1e15) continue;
-        const CellKey key{static_cast<int64_t>(g.x()), static_cast<int64_t>(g.y()), static_cast<int64_t>(g.z())};
-        auto [it, added] = cells.try_emplace(key, h);
-        if (!added) it->second += h;
-        H += h;
-    }
-    const Eigen::SelfAdjointEigenSolver<Mat3d> es(H);
-    if (es.info() != Eigen::Success || !(es.eigenvalues()[2] > 0)) return Mat3d::Zero();
-    // The held directions (above the noise floor) and the projector on the others.
-    const double floor = std::max(1e-12, floor_share) * H.trace();
-    Mat3d Hinv = Mat3d::Zero(), unheld = Mat3d::Zero();
-    for (int k = 0; k < 3; ++k) {
-        const double l = es.eigenvalues()[k];
-        const Vec3d v = es.eigenvectors().col(k);
-        if (l > floor)
-            Hinv += v * v.transpose() / l;
-        else
-            unheld += v * v.transpose();
-    }
-    Mat3d S = Mat3d::Zero();
-    for (const auto& kv : cells) S += kv.second * kv.second;
-    Mat3d M = Hinv * S * Hinv;
-    M = 0.5 * (M + M.transpose());
-    const Eigen::SelfAdjointEigenSolver<Mat3d> em(M);
-    M = em.eigenvectors() * em.eigenvalues().cwiseMax(0.0).cwiseMin(1.0).asDiagonal() * em.eigenvectors().transpose();
-    M += unheld;
-    // Map axes to body axes (the covariance's translation is the body's).
-    const Mat3d R = T_map_imu.linear();
-    return R.transpose() * M * R;
-}
-
 Vec6d PosePosterior::floor(const Mat6d& H, bool imu_deskewed) const {
     Vec6d f = floor_;
     if (imu_deskewed && floor_xyz_imu_ >= 0) f.head<3>().setConstant(floor_xyz_imu_);
@@ -107,22 +49,14 @@ Vec6d PosePosterior::floor(const Mat6d& H, bool imu_deskewed) const {
     return f;
 }
 
-Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed, const Mat3d* map_share) const {
+Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed) const {
     Mat6d C = cappedCovariance(info);
-    const Vec6d f = floor(H, imu_deskewed);
-    if (imu_deskewed && floor_xyz_imu_ >= 0 && map_share) {
-        // The map's error as this scan's footprint takes it (mapShiftShare).
-        C.topLeftCorner<3, 3>() += floor_xyz_imu_ * floor_xyz_imu_ * *map_share;
-        C.diagonal().tail<3>() += f.tail<3>().cwiseAbs2();
-    } else {
-        C.diagonal() += f.cwiseAbs2();
-    }
+    C.diagonal() += floor(H, imu_deskewed).cwiseAbs2();
     return 0.5 * (C + C.transpose());
 }
 
 PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
-                                            const Mat6d& H, const Mat6d& H_added, bool imu_deskewed,
-                                            const Mat3d* map_share) const {
+                                            const Mat6d& H, const Mat6d& H_added, bool imu_deskewed) const {
     Update u;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
@@ -155,7 +89,7 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
         u.info.topLeftCorner<6, 6>() = pose_info;
         u.info_without_scan.topLeftCorner<6, 6>() = carried_pose;
     }
-    u.cov = covariance(pose_info, H, imu_deskewed, map_share);
+    u.cov = covariance(pose_info, H, imu_deskewed);
     return u;
 }
 
@@ -164,11 +98,10 @@ Mat6d PosePosterior::Update::carriedPoseInformation() const {
     return info_without_scan.topLeftCorner<6, 6>();
 }
 
-PosePosterior::Update PosePosterior::withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed,
-                                                 const Mat3d* map_share) const {
+PosePosterior::Update PosePosterior::withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed) const {
     Update w = u;
     w.info = u.info_without_scan;
-    w.cov = covariance(u.carriedPoseInformation(), H, imu_deskewed, map_share);
+    w.cov = covariance(u.carriedPoseInformation(), H, imu_deskewed);
     return w;
 }
 

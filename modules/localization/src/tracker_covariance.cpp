@@ -16,21 +16,12 @@ using Clock = SteadyClock;
 double noiseFloorShare(const LocalizerParams& p) { return std::pow(std::sin(p.risk.normal_noise_deg * kDeg), 2); }
 }  // namespace
 
-void Tracker::mapShare(FrameSolution& sol) const {
-    const double cell = params_.fusion.active.cov_map_cell;
-    if (cell > 0)
-        sol.map_share = fusion::mapShiftShare(sol.corr, sol.state.T_map_imu(), cell, noiseFloorShare(params_));
-    else
-        sol.map_share.reset();
-}
-
 void Tracker::scanCovariance(FrameSolution& sol) const {
     TrackReport& rep = sol.report;
     const auto t0 = Clock::now();
     const Mat6d H = fusion::informationAboveNoise(
         fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), noiseFloorShare(params_));
-    mapShare(sol);
-    rep.cov = post_.covariance(H, H, false, sol.map_share ? &*sol.map_share : nullptr);
+    rep.cov = post_.covariance(H, H);
     rep.ms.risk += msSince(t0);
 }
 
@@ -44,17 +35,15 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     }
     // The scan as the estimate adds it: nothing below the noise floor along a direction the
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
-    mapShare(sol);
     sol.post = post_.update(in, params_.fusion, sol.scan_info,
                             sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
-                            deskewedAlongImu(f), sol.map_share ? &*sol.map_share : nullptr);
+                            deskewedAlongImu(f));
     sol.report.cov = sol.post->cov + sweepCovariance(f, sol);
 }
 
 Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {
     // Without its scan the pose is what was carried: the sweep's distortion of the scan is not in it.
-    sol.post = post_.withoutScan(*sol.post, sol.scan_info, deskewedAlongImu(f),
-                                 sol.map_share ? &*sol.map_share : nullptr);
+    sol.post = post_.withoutScan(*sol.post, sol.scan_info, deskewedAlongImu(f));
     return sol.post->cov;
 }
 

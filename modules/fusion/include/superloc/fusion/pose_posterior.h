@@ -39,19 +39,6 @@ namespace superloc::fusion {
 /// `H` holds no translation or no rotation about k (nothing to scale), or map_sigma is 0.
 Vec3d mapRotationFloor(const Mat6d& H, double map_sigma);
 
-/// The share of a map error coherent over cells of `cell` [m] (independent between cells) that
-/// the pose's translation takes, in body axes: M = H^-1 (sum_c H_c H_c) H^-1, H_c the
-/// translation information of the residuals whose map anchors lie in cell c (weights as
-/// scanInformation's: plane normal, a line's two directions across it, a point's three axes), H
-/// their sum; a least-squares shift is H^-1 sum_c H_c w_c for cell shifts w_c. One cell: M = I
-/// (the pose moves with the map); N cells alike: I / N. Over the directions H holds above its
-/// noise floor (eigenvalue > `floor_share` x its trace, as informationAboveNoise), eigenvalues
-/// capped at 1; along the others the whole of it (M = 1: what the scan does not hold was carried
-/// from frames whose residuals averaged the map differently). Zero for no residuals or
-/// `cell` <= 0.
-Mat3d mapShiftShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell,
-                    double floor_share);
-
 class PosePosterior {
    public:
     /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
@@ -82,18 +69,15 @@ class PosePosterior {
     /// lever arms. Does not change the filter.
     /// `imu_deskewed`: the frame's sweep was deskewed along the IMU (the position's floor is
     /// then floor_xyz_imu).
-    /// `map_share` (mapShiftShare; null: none): the position's floor of an IMU-deskewed frame is
-    /// then floor_xyz_imu^2 times it rather than floor_xyz_imu^2 on every axis.
     Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H,
-                  const Mat6d& H_added, bool imu_deskewed = false, const Mat3d* map_share = nullptr) const;
+                  const Mat6d& H_added, bool imu_deskewed = false) const;
     /// `u` without its frame's scan: what the frame knows when its registration is in doubt (not
     /// converged, or fitting clearly worse than this map gives), the scan's information being
     /// taken at associations that may be wrong (a corridor's end wall coming into view 5 m from
     /// where the drifted pose puts it: 1 cm claimed, 5.4 m off). Its `info` is what the frame
     /// then carries, its `cov` (floor included, `H` and `imu_deskewed` as for update()) what it
     /// reports. Computed only for such a frame.
-    Update withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed = false,
-                       const Mat3d* map_share = nullptr) const;
+    Update withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed = false) const;
     /// The frame is final: its information is the next frame's prior.
     void commit(const Update& u);
     /// Forget everything (a lost, diverged or relocalized frame).
@@ -101,8 +85,7 @@ class PosePosterior {
     /// A pose's covariance from its information alone, floor included (unheld directions capped
     /// at kMaxSigma); the rotation's floor raised to what the map's coherent error leaves at the
     /// lever arms of the scan information `H` (mapRotationFloor).
-    Mat6d covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed = false,
-                     const Mat3d* map_share = nullptr) const;
+    Mat6d covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed = false) const;
     /// The std floor per body axis of a frame whose scan information is `H`.
     Vec6d floor(const Mat6d& H, bool imu_deskewed = false) const;
 

@@ -56,15 +56,8 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     double cov_floor_xyz = 0.01;    ///< [m]
     double cov_floor_deg = 0.02;    ///< [deg]
     /// [m] the position's floor where the sweep was deskewed along the IMU's trajectory: no
-    /// deskew or timing error left for every residual to share, the map's remains. With
-    /// cov_map_cell > 0 it is the std a scan whose residuals all lie in one cell takes; spread
-    /// over more cells it takes less (fusion::mapShiftShare)
+    /// deskew or timing error left for every residual to share, the map's remains
     double cov_floor_imu_xyz = 0.007;
-    /// [m] the length over which the prior map's error is coherent (a mapping run's warp); errors
-    /// a cell apart taken as independent. 0 (the default): the position's floor is
-    /// cov_floor_imu_xyz on every axis. 10 m was measured and not kept: 5 of the consistency
-    /// suite's 15 runs with IMU fell below 85 % under the 95 % bound (doc/method.md §4)
-    double cov_map_cell = 0.0;
     /// [m] the prior map's error that is coherent over a scan's footprint (a warp, a mapping
     /// run's misalignment): it turns the pose about body axis k by cov_map_xyz / r_k, r_k the
     /// scan's lever arm about k (fusion::mapRotationFloor); 0: no such floor

@@ -43,9 +43,6 @@ struct FrameSolution {
     std::optional<fusion::RelativePosePrior> prior;
     /// A tracked frame's posterior (fusion::PosePosterior), committed when the frame is final.
     std::optional<fusion::PosePosterior::Update> post;
-    /// The share of the map's coherent error its final association takes (fusion::mapShiftShare;
-    /// none when [fusion] cov_map_cell is 0): the position's floor of its covariance.
-    std::optional<Mat3d> map_share;
     /// What the solve reports (risk, fusion, rounds, quality, covariance, times): the frame's
     /// report from steps 1-2 with this solve's fields written over it.
     TrackReport report;

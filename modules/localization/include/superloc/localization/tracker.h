@@ -171,8 +171,6 @@ class Tracker {
     /// A solve without the filter (a hypothesis, ndt, a diverged frame): the covariance of its
     /// scan alone, above its noise floor (doc/method.md §4).
     void scanCovariance(FrameSolution& sol) const;
-    /// sol.map_share from its final association ([fusion] cov_map_cell; none when 0).
-    void mapShare(FrameSolution& sol) const;
     /// The last frame's voxel candidates (deskewed, map frame at its pose) and its LiDAR
     /// position, kept without IMU for measureMotion; empty after a lost frame.
     std::vector<Vec3f> last_scan_points_;
