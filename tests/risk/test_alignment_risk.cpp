@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
+#include <superloc/core/se3.h>
 #include <superloc/risk/alignment_risk.h>
 
 #include <cmath>
@@ -235,6 +236,44 @@ TEST(AlignmentRisk, HessianIsEigensRankUpdateBitForBit) {
     for (int i = 0; i < 6; ++i)
         for (int k = 0; k < 6; ++k) EXPECT_EQ(r.hessian(i, k), H(i, k)) << i << "," << k;
     EXPECT_GT(H.trace(), 100.0);
+}
+
+// The risk works on blocks of 64 correspondences: a correspondence's labels and Jacobian are
+// those it gets alone, wherever it falls in a block (sizes across block boundaries, planes,
+// lines and points in a turned frame, skipped ones among them), and the counts add up.
+TEST(AlignmentRisk, BlocksGiveEachCorrespondenceItsOwnResult) {
+    auto base = castScene({{0, -4}, {0, 8}, {1, -3.5}, {1, 5.5}, {2, -1.2}, {2, 1.8}}, 90, 16);
+    ASSERT_GT(base.size(), 200u);
+    const SE3d T = makePoseRPY(1.0, -2.0, 0.3, 0.05, -0.02, 0.7);
+    for (size_t i = 0; i < base.size(); ++i) {
+        Correspondence& c = base[i];
+        c.q = T * c.p + Vec3d(0.01, -0.02, 0.015);
+        if (i % 7 == 3) c.type = FeatureType::Line, c.n = Vec3d(1, 2, 0.5).normalized();
+        if (i % 11 == 5) c.type = FeatureType::Point;
+        if (i % 13 == 6) c.weight = 0;  // skipped
+        if (i % 17 == 8) c.p = Vec3d(std::numeric_limits<double>::quiet_NaN(), 0, 0);  // skipped
+    }
+    RiskParams prm;
+    prm.keep_jacobians = true;
+    const Vec3d origin(0.1, -0.2, 0.05);
+    for (size_t n : {size_t(63), size_t(64), size_t(65), size_t(129), base.size()}) {
+        const std::vector<Correspondence> cs(base.begin(), base.begin() + static_cast<long>(n));
+        const auto all = computeAlignmentRisk(cs, T, origin, prm);
+        size_t skipped = 0;
+        Vec6d counts = Vec6d::Zero();
+        for (size_t i = 0; i < n; ++i) {
+            const auto one = computeAlignmentRisk({cs[i]}, T, origin, prm);
+            EXPECT_EQ(all.translation_label[i], one.translation_label[0]) << n << " " << i;
+            EXPECT_EQ(all.rotation_label[i], one.rotation_label[0]) << n << " " << i;
+            EXPECT_EQ(all.rotation_label2[i], one.rotation_label2[0]) << n << " " << i;
+            for (int k = 0; k < 6; ++k) EXPECT_EQ(all.jacobians[i][k], one.jacobians[0][k]) << n << " " << i;
+            skipped += one.skipped;
+            counts += one.counts;
+        }
+        EXPECT_EQ(all.skipped, skipped) << n;
+        EXPECT_GT(skipped, 0u) << n;
+        for (int k = 0; k < 6; ++k) EXPECT_NEAR(all.counts[k], counts[k], 1e-9 * (1 + counts[k])) << n << " " << k;
+    }
 }
 
 // A 12 x 9 x 3 m room, sensor off-centre: nothing degenerate, and a well-conditioned Hessian.
