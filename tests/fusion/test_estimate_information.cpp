@@ -168,8 +168,8 @@ TEST(EstimateInformation, PoseCovarianceTakesTheScanAsTheEstimateDoes) {
         const FrameProblemInputs in = window(prev, cur, pre);
         est.predict(in, params);
         est_x = std::sqrt(cappedCovariance(est.information(H))(0, 0));
-        const auto u = with.update(in, params, H, est.scanPart(H));
-        const auto v = without.update(in, params, H, H);
+        const auto u = with.update(in, params, est.scanPart(H), FloorGeometry{H});
+        const auto v = without.update(in, params, H, FloorGeometry{H});
         with_x = std::sqrt(u.cov(0, 0));
         without_x = std::sqrt(v.cov(0, 0));
         with.commit(u);

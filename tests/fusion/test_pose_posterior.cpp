@@ -45,7 +45,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
     prev.setPose(SE3d::Identity());
     FrameProblemInputs in0;
     in0.cur = &prev;
-    auto u = post.update(in0, params, H0, H0);
+    auto u = post.update(in0, params, H0, FloorGeometry{H0});
     post.commit(u);
     EXPECT_NEAR(u.cov(0, 0), 0.05 * 0.05 + 0.01 * 0.01, 1e-8);
     const double sf = 0.02;  // odom_alt's std per frame along x
@@ -60,7 +60,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
         in.prev = &prev;
         in.cur = &cur;
         in.prior = p;
-        u = post.update(in, params, H, H);
+        u = post.update(in, params, H, FloorGeometry{H});
         post.commit(u);
         prev = cur;
     }
@@ -73,7 +73,7 @@ TEST(PosePosterior, WithoutImuTheVarianceAddsUpAlongTheChain) {
     post.reset();
     FrameProblemInputs alone;
     alone.cur = &cur;
-    u = post.update(alone, params, H, H);
+    u = post.update(alone, params, H, FloorGeometry{H});
     EXPECT_GT(std::sqrt(u.cov(0, 0)), 100.0);
 }
 
@@ -93,7 +93,7 @@ TEST(PosePosterior, AFrameInDoubtKeepsWhatItKnewWithoutItsScan) {
     I0(0, 0) = 1.0;
     FrameProblemInputs first;
     first.cur = &prev;
-    post.commit(post.update(first, params, I0, I0));
+    post.commit(post.update(first, params, I0, FloorGeometry{I0}));
     RelativePosePrior p;
     p.delta = prev.T_map_imu().inverse() * cur.T_map_imu();
     p.sqrt_info = sqrtInfo(Vec6d(Vec6d::Constant(1e6)));  // the relative motion: 1 mm
@@ -102,9 +102,9 @@ TEST(PosePosterior, AFrameInDoubtKeepsWhatItKnewWithoutItsScan) {
     in.cur = &cur;
     in.prior = p;
     const Mat6d H = Mat6d::Identity() * 1e6;  // this frame's scan: 1 mm along everything
-    auto u = post.update(in, params, H, H);
+    auto u = post.update(in, params, H, FloorGeometry{H});
     EXPECT_LT(std::sqrt(u.cov(0, 0)), 0.002);
-    const auto w = post.withoutScan(u, H);
+    const auto w = post.withoutScan(u);
     EXPECT_NEAR(std::sqrt(w.cov(0, 0)), 1.0, 0.01);  // the carried metre
     EXPECT_NEAR(std::sqrt(w.cov(1, 1)), 0.0112, 0.001);  // 1 cm, and 0.01 rad of yaw over 0.5 m
     EXPECT_LT(std::sqrt(u.cov(0, 0)), 0.002);  // the update itself is untouched
@@ -116,7 +116,7 @@ TEST(PosePosterior, AFrameInDoubtKeepsWhatItKnewWithoutItsScan) {
     in.cur = &next;
     p.delta = cur.T_map_imu().inverse() * next.T_map_imu();
     in.prior = p;
-    const auto v = post.update(in, params, Mat6d::Zero(), Mat6d::Zero());
+    const auto v = post.update(in, params, Mat6d::Zero(), FloorGeometry{Mat6d::Zero()});
     EXPECT_GT(std::sqrt(v.cov(0, 0)), 0.99);
 }
 
@@ -173,10 +173,10 @@ TEST(PosePosterior, MapRotationFloorIsTheMapErrorOverTheScansLeverArm) {
     Vec6d fixed;
     fixed << 0.01, 0.01, 0.01, 0.001, 0.001, 0.001;
     const PosePosterior post(fixed, sigma);
-    const Vec6d f = post.floor(room(4.0));
+    const Vec6d f = post.floor(FloorGeometry{room(4.0)});
     EXPECT_EQ(f.head<3>(), fixed.head<3>());
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[3 + k], expected, 0.01 * expected);
-    EXPECT_NEAR(post.floor(room(40.0))[3], 0.001, 1e-12);  // a 40 m hall: 0.15 mrad, the fixed floor holds
+    EXPECT_NEAR(post.floor(FloorGeometry{room(40.0)})[3], 0.001, 1e-12);  // a 40 m hall: 0.15 mrad, the fixed floor holds
 }
 
 namespace {
@@ -259,4 +259,121 @@ TEST(SweepCovariance, FloorAheadAndBehindSeenAtDifferentTimesCouplesHeightWithPi
     const Mat6d once = sweepCovariance(floor, SE3d::Identity(), d, 0.05, 0.0049, carried);
     EXPECT_NEAR(once(2, 2), 0.0, 1e-6 * p2);
     EXPECT_NEAR(once(4, 4), 4.0 * p2, 0.01 * p2);
+}
+
+namespace {
+/// A box of planes around `centre`, `half` metres to each face, n points per face: it holds all
+/// three translations equally.
+void addRoom(std::vector<Correspondence>& out, const Vec3d& centre, double half, int n) {
+    for (int face = 0; face < 6; ++face) {
+        const int axis = face / 2;
+        const double sign = face % 2 ? 1.0 : -1.0;
+        for (int i = 0; i < n; ++i) {
+            Vec3d q = centre;
+            q[axis] += sign * half;
+            q[(axis + 1) % 3] += half * (2.0 * (i % 7) / 6.0 - 1.0);
+            q[(axis + 2) % 3] += half * (2.0 * (i / 7 % 7) / 6.0 - 1.0);
+            Vec3d nrm = Vec3d::Zero();
+            nrm[axis] = 1.0;
+            out.push_back(planePoint(q, nrm, 0.0f));
+        }
+    }
+}
+}  // namespace
+
+// A map error coherent over the whole footprint (a correlation length far beyond it) moves the
+// pose with it: all of it on every axis. Rooms far apart, beyond the correlation length, err
+// independently, and the pose takes the average of K of them: 1/K on every axis.
+TEST(MapErrorShare, CoherentFieldIsTakenWholeIndependentRoomsAverageOut) {
+    std::vector<Correspondence> one;
+    addRoom(one, Vec3d(0, 0, 0), 3.0, 49);
+    const Mat3d whole = mapErrorShare(one, SE3d::Identity(), 4.0, 1e6, 1e-6);
+    EXPECT_TRUE(whole.isApprox(Mat3d::Identity(), 1e-9)) << whole;
+    std::vector<Correspondence> four;
+    for (int k = 0; k < 4; ++k) addRoom(four, Vec3d(1000.0 * k, 0, 0), 3.0, 49);
+    // A field correlated over 50 m: each 6 m room moves (nearly) as one, the rooms 1 km apart
+    // independently (4 rooms at 4 m cells stay well under kMapShareMaxCells).
+    const Mat3d apart = mapErrorShare(four, SE3d::Identity(), 4.0, 50.0, 1e-6);
+    EXPECT_TRUE(apart.isApprox(0.25 * Mat3d::Identity(), 0.01)) << apart;
+    // Within a room that decorrelates over 2 m, the room averages its own faces out.
+    EXPECT_LT(mapErrorShare(one, SE3d::Identity(), 1.0, 2.0, 1e-6)(0, 0), 0.9);
+    // The same rooms within a correlation length of each other: between the two.
+    std::vector<Correspondence> near;
+    for (int k = 0; k < 4; ++k) addRoom(near, Vec3d(8.0 * k, 0, 0), 3.0, 49);
+    const Mat3d m = mapErrorShare(near, SE3d::Identity(), 4.0, 10.0, 1e-6);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(m(k, k), 0.3) << k;
+        EXPECT_LT(m(k, k), 0.95) << k;
+    }
+}
+
+// A corridor's walls and floor do not hold its axis: the map's error along it is taken whole,
+// whatever the footprint; across it a 100 m corridor averages a 2 m-correlated error out. The
+// share is in body axes: the same corridor seen from a body turned by 90 degrees about z has
+// its unheld axis along body y.
+TEST(MapErrorShare, AnUnheldAxisTakesAllAHeldOneAveragesInBodyAxes) {
+    std::vector<Correspondence> corridor;
+    for (int i = 0; i < 400; ++i) {
+        const double x = -50.0 + 0.25 * i;
+        corridor.push_back(planePoint(Vec3d(x, -1.5, 1.0), Vec3d(0, 1, 0), 0.0f));
+        corridor.push_back(planePoint(Vec3d(x, 1.5, 1.0), Vec3d(0, -1, 0), 0.0f));
+        corridor.push_back(planePoint(Vec3d(x, 0.0, 0.0), Vec3d(0, 0, 1), 0.0f));
+    }
+    const Mat3d M = mapErrorShare(corridor, SE3d::Identity(), 4.0, 2.0, 0.01);
+    EXPECT_NEAR(M(0, 0), 1.0, 1e-9);
+    EXPECT_LT(M(1, 1), 0.2);
+    EXPECT_LT(M(2, 2), 0.2);
+    EXPECT_GT(M(1, 1), 0.0);
+    const SE3d turned = makePoseRPY(0, 0, 0, 0, 0, M_PI / 2);
+    const Mat3d B = mapErrorShare(corridor, turned, 4.0, 2.0, 0.01);
+    EXPECT_NEAR(B(1, 1), 1.0, 1e-9);
+    EXPECT_NEAR(B(0, 0), M(1, 1), 1e-9);
+    // Nothing to read it off: all of it.
+    EXPECT_TRUE(mapErrorShare({}, SE3d::Identity(), 4.0, 2.0, 0.01).isApprox(Mat3d::Identity()));
+    EXPECT_TRUE(mapErrorShare(corridor, SE3d::Identity(), 4.0, 0.0, 0.01).isApprox(Mat3d::Identity()));
+}
+
+// A footprint of more cells than kMapShareMaxCells is summed on a coarser grid: still a share
+// (symmetric, eigenvalues in [0, 1]) and close to the fine grid's where the cells are well
+// within a correlation length.
+TEST(MapErrorShare, CoarserGridBeyondTheCellCapStaysAShare) {
+    std::vector<Correspondence> field;
+    for (int i = 0; i < 60; ++i)
+        for (int j = 0; j < 60; ++j) {
+            const Vec3d q(-150.0 + 5.0 * i, -150.0 + 5.0 * j, 0.0);
+            field.push_back(planePoint(q, Vec3d(0, 0, 1), 0.0f));
+            field.push_back(planePoint(q + Vec3d(1, 0, 1), Vec3d(1, 0, 0), 0.0f));
+            field.push_back(planePoint(q + Vec3d(0, 1, 1), Vec3d(0, 1, 0), 0.0f));
+        }
+    const Mat3d M = mapErrorShare(field, SE3d::Identity(), 4.0, 20.0, 1e-6);  // 3 600 cells of 4 m
+    const Eigen::SelfAdjointEigenSolver<Mat3d> es(M);
+    EXPECT_TRUE(M.isApprox(M.transpose(), 1e-12));
+    EXPECT_GE(es.eigenvalues().minCoeff(), 0.0);
+    EXPECT_LE(es.eigenvalues().maxCoeff(), 1.0 + 1e-12);
+    // A 300 m square of 20 m-correlated error: roughly (20 sqrt(2 pi) / 300)^2 ~ 0.03 of it.
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_GT(M(k, k), 0.005) << k;
+        EXPECT_LT(M(k, k), 0.1) << k;
+    }
+}
+
+// The floor with a map share: with IMU the position's floor is the map's, shaped by the share;
+// without, the rest of the constant floor (deskew, timing) stays on every axis. No share: the
+// constant floor, as before.
+TEST(MapErrorShare, ShapesThePositionFloorOnly) {
+    Vec6d fixed;
+    fixed << 0.01, 0.01, 0.01, 0.001, 0.001, 0.001;
+    const PosePosterior post(fixed, 0.0, 0.007);
+    Mat3d share = Mat3d::Zero();
+    share.diagonal() << 1.0, 0.25, 0.04;
+    share(0, 1) = share(1, 0) = 0.1;
+    const Mat6d with = post.floorCovariance(FloorGeometry{Mat6d::Zero(), true, share});
+    EXPECT_TRUE((with.topLeftCorner<3, 3>().isApprox(0.007 * 0.007 * share, 1e-12)));
+    EXPECT_TRUE((with.bottomRightCorner<3, 3>().isApprox(Mat3d::Identity() * 1e-6, 1e-12)));
+    EXPECT_TRUE((with.topRightCorner<3, 3>().isZero()));
+    const Mat6d without = post.floorCovariance(FloorGeometry{Mat6d::Zero(), false, share});
+    const Mat3d expected = (0.01 * 0.01 - 0.007 * 0.007) * Mat3d::Identity() + 0.007 * 0.007 * share;
+    EXPECT_TRUE((without.topLeftCorner<3, 3>().isApprox(expected, 1e-12)));
+    const Mat6d constant = post.floorCovariance(FloorGeometry{Mat6d::Zero(), true, std::nullopt});
+    EXPECT_TRUE((constant.topLeftCorner<3, 3>().isApprox(0.007 * 0.007 * Mat3d::Identity(), 1e-12)));
 }

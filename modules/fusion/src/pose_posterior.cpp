@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace superloc::fusion {
 
@@ -42,22 +43,160 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
     return f;
 }
 
-Vec6d PosePosterior::floor(const Mat6d& H, bool imu_deskewed) const {
+namespace {
+/// One cell of mapErrorShare's grid: the translation information of its correspondences
+/// (xx xy xz yy yz zz) and their weighted centre.
+struct ShareCell {
+    double h[6] = {0, 0, 0, 0, 0, 0};
+    Vec3d x = Vec3d::Zero();
+    double w = 0;
+    Mat3d H() const {
+        Mat3d m;
+        m << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
+        return m;
+    }
+};
+
+/// Sums cells on a grid of `edge` metres, keyed by their points: a flat open-addressing table
+/// (a scan's 2 000 correspondences in a few microseconds, nothing allocated per point).
+class CellGrid {
+   public:
+    CellGrid(size_t n, double edge) : inv_(1.0 / edge) {
+        while (cap_ < 2 * n) cap_ *= 2;
+        keys_.assign(cap_, ~0ull);
+        slot_.assign(cap_, 0);
+        cells_.reserve(n);
+    }
+    ShareCell& at(const Vec3d& x) {
+        const auto q = [this](double v) {
+            return static_cast<uint64_t>(static_cast<int64_t>(std::floor(v * inv_)) + (1 << 20)) & 0x1FFFFFu;
+        };
+        const uint64_t key = (q(x.x()) << 42) | (q(x.y()) << 21) | q(x.z());
+        size_t i = static_cast<size_t>((key * 0x9E3779B97F4A7C15ULL) >> 20) & (cap_ - 1);
+        while (keys_[i] != ~0ull && keys_[i] != key) i = (i + 1) & (cap_ - 1);
+        if (keys_[i] == ~0ull) {
+            keys_[i] = key;
+            slot_[i] = static_cast<uint32_t>(cells_.size());
+            cells_.emplace_back();
+        }
+        return cells_[slot_[i]];
+    }
+    std::vector<ShareCell>& cells() { return cells_; }
+
+   private:
+    double inv_;
+    size_t cap_ = 16;
+    std::vector<uint64_t> keys_;
+    std::vector<uint32_t> slot_;
+    std::vector<ShareCell> cells_;
+};
+
+/// The cells of `edge` metres that `in`'s cells (by their weighted centres) fall in, summed.
+std::vector<ShareCell> coarsen(const std::vector<ShareCell>& in, double edge) {
+    CellGrid g(in.size(), edge);
+    for (const ShareCell& c : in) {
+        ShareCell& o = g.at(c.x / c.w);
+        for (int k = 0; k < 6; ++k) o.h[k] += c.h[k];
+        o.x += c.x;
+        o.w += c.w;
+    }
+    return std::move(g.cells());
+}
+}  // namespace
+
+Mat3d mapErrorShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell, double length,
+                    double floor_share) {
+    if (!(cell > 0) || !(length > 0) || !std::isfinite(cell + length)) return Mat3d::Identity();
+    // The correspondences summed on the grid (each cell's translation information at its
+    // weighted centre), coarsened while the scan spans more than kMapShareMaxCells cells.
+    double edge = cell;
+    CellGrid grid(corr.size(), edge);
+    Mat3d H = Mat3d::Zero();
+    for (const Correspondence& c : corr) {
+        if (!(c.weight > 0) || !c.q.allFinite() || !c.n.allFinite() || c.q.cwiseAbs().maxCoeff() > 1e6) continue;
+        Mat3d h;
+        switch (c.type) {
+            case FeatureType::Plane: h = c.n * c.n.transpose(); break;
+            case FeatureType::Line: h = Mat3d::Identity() - c.n * c.n.transpose(); break;
+            default: h = Mat3d::Identity(); break;
+        }
+        h *= c.weight;
+        H += h;
+        ShareCell& s = grid.at(c.q);
+        s.h[0] += h(0, 0), s.h[1] += h(0, 1), s.h[2] += h(0, 2), s.h[3] += h(1, 1), s.h[4] += h(1, 2), s.h[5] += h(2, 2);
+        s.x += c.weight * c.q;
+        s.w += c.weight;
+    }
+    std::vector<ShareCell> cells = std::move(grid.cells());
+    if (cells.empty()) return Mat3d::Identity();
+    while (cells.size() > static_cast<size_t>(kMapShareMaxCells)) cells = coarsen(cells, edge *= 2);
+    // The held directions (above the noise floor) and the others.
+    const Eigen::SelfAdjointEigenSolver<Mat3d> es(H);
+    if (es.info() != Eigen::Success || !(es.eigenvalues()[2] > 0)) return Mat3d::Identity();
+    const double noise = std::max(1e-12, floor_share) * H.trace();
+    Mat3d Hinv = Mat3d::Zero(), unheld = Mat3d::Zero();
+    for (int k = 0; k < 3; ++k) {
+        const Vec3d v = es.eigenvectors().col(k);
+        if (es.eigenvalues()[k] > noise)
+            Hinv += v * v.transpose() / es.eigenvalues()[k];
+        else
+            unheld += v * v.transpose();
+    }
+    // S = sum_ij rho_ij H_i H_j over the cells (rho below 1e-4 left out: beyond 4.3 lengths).
+    std::vector<Mat3d> Hc(cells.size());
+    std::vector<Vec3d> xc(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i) Hc[i] = cells[i].H(), xc[i] = cells[i].x / cells[i].w;
+    const double inv2l2 = 1.0 / (2.0 * length * length), cutoff = -std::log(1e-4) / inv2l2;
+    Mat3d S = Mat3d::Zero();
+    for (size_t i = 0; i < cells.size(); ++i) {
+        S.noalias() += Hc[i] * Hc[i];
+        Mat3d cross = Mat3d::Zero();
+        for (size_t j = i + 1; j < cells.size(); ++j) {
+            const double d2 = (xc[i] - xc[j]).squaredNorm();
+            if (d2 < cutoff) cross.noalias() += std::exp(-d2 * inv2l2) * Hc[j];
+        }
+        const Mat3d P = Hc[i] * cross;
+        S += P + P.transpose();
+    }
+    Mat3d M = Hinv * S * Hinv;
+    M = 0.5 * (M + M.transpose());
+    const Eigen::SelfAdjointEigenSolver<Mat3d> em(M);
+    M = em.eigenvectors() * em.eigenvalues().cwiseMax(0.0).cwiseMin(1.0).asDiagonal() * em.eigenvectors().transpose();
+    M += unheld;
+    const Mat3d R = T_map_imu.linear();
+    return R.transpose() * M * R;
+}
+
+Vec6d PosePosterior::floor(const FloorGeometry& g) const {
     Vec6d f = floor_;
-    if (imu_deskewed && floor_xyz_imu_ >= 0) f.head<3>().setConstant(floor_xyz_imu_);
-    f.tail<3>() = f.tail<3>().cwiseMax(mapRotationFloor(H, map_sigma_));
+    if (g.imu_deskewed && floor_xyz_imu_ >= 0) f.head<3>().setConstant(floor_xyz_imu_);
+    f.tail<3>() = f.tail<3>().cwiseMax(mapRotationFloor(g.H, map_sigma_));
     return f;
 }
 
-Mat6d PosePosterior::covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed) const {
-    Mat6d C = cappedCovariance(info);
-    C.diagonal() += floor(H, imu_deskewed).cwiseAbs2();
+Mat6d PosePosterior::floorCovariance(const FloorGeometry& g) const {
+    const Vec6d f = floor(g);
+    Mat6d C = Mat6d::Zero();
+    C.diagonal() = f.cwiseAbs2();
+    if (g.map_share && floor_xyz_imu_ >= 0) {
+        // The map's part of the position's floor as this scan takes it; the rest (deskew,
+        // timing) on every axis.
+        const double m2 = floor_xyz_imu_ * floor_xyz_imu_;
+        for (int k = 0; k < 3; ++k) C(k, k) = std::max(0.0, f[k] * f[k] - m2);
+        C.topLeftCorner<3, 3>() += m2 * *g.map_share;
+    }
+    return C;
+}
+
+Mat6d PosePosterior::covariance(const Mat6d& info, const FloorGeometry& g) const {
+    Mat6d C = cappedCovariance(info) + floorCovariance(g);
     return 0.5 * (C + C.transpose());
 }
 
 PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
-                                            const Mat6d& H, const Mat6d& H_added, bool imu_deskewed) const {
+                                            const Mat6d& H_added, const FloorGeometry& floor) const {
     Update u;
+    u.floor = floor;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
     Mat6d pose_info = H_added, carried_pose = Mat6d::Zero();
@@ -89,7 +228,7 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
         u.info.topLeftCorner<6, 6>() = pose_info;
         u.info_without_scan.topLeftCorner<6, 6>() = carried_pose;
     }
-    u.cov = covariance(pose_info, H, imu_deskewed);
+    u.cov = covariance(pose_info, floor);
     return u;
 }
 
@@ -98,10 +237,10 @@ Mat6d PosePosterior::Update::carriedPoseInformation() const {
     return info_without_scan.topLeftCorner<6, 6>();
 }
 
-PosePosterior::Update PosePosterior::withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed) const {
+PosePosterior::Update PosePosterior::withoutScan(const Update& u) const {
     Update w = u;
     w.info = u.info_without_scan;
-    w.cov = covariance(u.carriedPoseInformation(), H, imu_deskewed);
+    w.cov = covariance(u.carriedPoseInformation(), u.floor);
     return w;
 }
 

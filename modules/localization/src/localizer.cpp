@@ -165,7 +165,7 @@ FrameReport Localizer::process(const Scan& scan, FrameOutputs* out) {
     apply(recovery_.recoverIfLost(f, !requested, OwnPose{sol, rep, verdict}, judge));
     // A frame whose own registration is in doubt (not converged, or fitting clearly worse than
     // this map gives) reports, and carries, what it knew without its scan (doc/method.md §4).
-    if (sol.post && !rep.recovered && verdict.checks.inDoubt()) rep.cov = tracker_.dropScan(f, sol);
+    if (sol.post && !rep.recovered && verdict.checks.inDoubt()) rep.cov = tracker_.dropScan(sol);
     rep.setVerdict(verdict);
     // The frame is final. The health monitor commits it once (the reference, and the drift
     // check's chain, which goes on through frames the IMU predicted from the one before and

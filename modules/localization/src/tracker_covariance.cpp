@@ -21,7 +21,7 @@ void Tracker::scanCovariance(FrameSolution& sol) const {
     const auto t0 = Clock::now();
     const Mat6d H = fusion::informationAboveNoise(
         fusion::scanInformation(sol.corr, sol.state.T_map_imu(), params_.fusion.scan_sigma), noiseFloorShare(params_));
-    rep.cov = post_.covariance(H, H);
+    rep.cov = post_.covariance(H, fusion::FloorGeometry(H));
     rep.ms.risk += msSince(t0);
 }
 
@@ -35,15 +35,19 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     }
     // The scan as the estimate adds it: nothing below the noise floor along a direction the
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
-    sol.post = post_.update(in, params_.fusion, sol.scan_info,
-                            sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
-                            deskewedAlongImu(f));
+    fusion::FloorGeometry floor(sol.scan_info, deskewedAlongImu(f));
+    const fusion::ActiveFusionParams& a = params_.fusion.active;
+    if (a.cov_map_length > 0)
+        floor.map_share = fusion::mapErrorShare(sol.corr, sol.state.T_map_imu(), a.cov_map_cell, a.cov_map_length,
+                                                noiseFloorShare(params_));
+    sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
+                            floor);
     sol.report.cov = sol.post->cov + sweepCovariance(f, sol);
 }
 
-Mat6d Tracker::dropScan(const Frame& f, FrameSolution& sol) const {
+Mat6d Tracker::dropScan(FrameSolution& sol) const {
     // Without its scan the pose is what was carried: the sweep's distortion of the scan is not in it.
-    sol.post = post_.withoutScan(*sol.post, sol.scan_info, deskewedAlongImu(f));
+    sol.post = post_.withoutScan(*sol.post);
     return sol.post->cov;
 }
 

@@ -28,6 +28,7 @@
 #include <superloc/fusion/state_prior_factor.h>
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace superloc::fusion {
@@ -39,12 +40,46 @@ namespace superloc::fusion {
 /// `H` holds no translation or no rotation about k (nothing to scale), or map_sigma is 0.
 Vec3d mapRotationFloor(const Mat6d& H, double map_sigma);
 
+/// The map's error as a pose solved from `corr` at T_map_imu takes it (doc/method.md §4, "The
+/// map's error in the position"): the prior map is off by a smooth random displacement field,
+/// per-axis std 1 and correlation exp(-d^2 / 2 length^2) between points d apart; a residual moves
+/// by the field at its map point projected on its normal, and the solve answers with
+/// dt = H^-1 sum_i h_i delta(q_i), h_i the correspondence's translation information (plane:
+/// n n^T, line: I - n n^T, point: I; times its weight), H = sum_i h_i. Its covariance is
+/// M = H^-1 (sum_ij rho_ij h_i h_j) H^-1, summed over cells of `cell` metres (coarser, by
+/// doubling, where the scan spans more than kMapShareMaxCells of them): a field coherent over the
+/// whole footprint (length -> inf) gives M = I, one that decorrelates within it averages out.
+/// Eigenvalues clamped to [0, 1]; directions the scan does not hold above its noise floor
+/// (`floor_share` of the trace, as informationAboveNoise) take the whole field (1). Body axes
+/// (3 x 3, translation). Identity where there is nothing to read it off.
+Mat3d mapErrorShare(const std::vector<Correspondence>& corr, const SE3d& T_map_imu, double cell, double length,
+                    double floor_share);
+/// mapErrorShare's cap on the cells it sums pairs over (a pair costs a 3 x 3 product).
+constexpr int kMapShareMaxCells = 64;
+
+/// What a frame's covariance floor is read off (PosePosterior::covariance).
+struct FloorGeometry {
+    FloorGeometry() = default;
+    explicit FloorGeometry(const Mat6d& H_, bool imu_deskewed_ = false, std::optional<Mat3d> map_share_ = std::nullopt)
+        : H(H_), imu_deskewed(imu_deskewed_), map_share(std::move(map_share_)) {}
+    /// The scan's information above its noise floor: the rotation floor's lever arms.
+    Mat6d H = Mat6d::Zero();
+    /// The sweep was deskewed along the IMU's trajectory: the position's floor is the map's alone.
+    bool imu_deskewed = false;
+    /// The share of the map's error the position takes (body axes, mapErrorShare); empty: all
+    /// of it on every axis (the constant floor).
+    std::optional<Mat3d> map_share;
+};
+
 class PosePosterior {
    public:
     /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
     /// map's coherent error, which raises the rotation's floor per frame (mapRotationFloor);
     /// `floor_xyz_imu` [m]: the position's floor of a frame whose sweep was deskewed along the
-    /// IMU's trajectory (no deskew or timing error left to share; negative: `floor`'s).
+    /// IMU's trajectory (no deskew or timing error left to share: the map's error; negative:
+    /// `floor`'s). Where a frame's FloorGeometry has a map share M, that much of the position's
+    /// floor is the map's: floor_xyz_imu^2 M, and the rest of `floor` (deskew, timing) stays
+    /// whole: (floor^2 - floor_xyz_imu^2) I.
     explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0, double floor_xyz_imu = -1.0)
         : floor_(floor), map_sigma_(map_sigma), floor_xyz_imu_(floor_xyz_imu) {}
 
@@ -56,6 +91,7 @@ class PosePosterior {
         SE3d T_ref = SE3d::Identity();
         Vec9d sb_ref = Vec9d::Zero();
         Mat6d cov = Mat6d::Identity();  ///< the pose's covariance, floor included
+        FloorGeometry floor;            ///< what `cov`'s floor was read off (for withoutScan)
         /// `info` without the frame's scan (the carried information alone), for withoutScan().
         Mat15d info_without_scan = Mat15d::Zero();
         /// The pose's part of info_without_scan (with IMU the velocity and biases marginalized).
@@ -64,30 +100,32 @@ class PosePosterior {
 
     /// One frame: `in.prev`, `in.cur` (the solved state), `in.imu` (at the estimate's noise
     /// scale, or null), `in.prior` (odom_alt's prior at the information it is worth, or none),
-    /// and the scan's information above its noise floor `H`, of which the filter adds what
-    /// the estimate does (`H_added`, EstimateInformation::scanPart): `H` gives the floor's
-    /// lever arms. Does not change the filter.
-    /// `imu_deskewed`: the frame's sweep was deskewed along the IMU (the position's floor is
-    /// then floor_xyz_imu).
-    Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H,
-                  const Mat6d& H_added, bool imu_deskewed = false) const;
+    /// and the scan's information above its noise floor, of which the filter adds what the
+    /// estimate does (`H_added`, EstimateInformation::scanPart); `floor`: what the covariance's
+    /// floor is read off (its H: the scan's information above its noise floor, whole). Does
+    /// not change the filter.
+    Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H_added,
+                  const FloorGeometry& floor) const;
     /// `u` without its frame's scan: what the frame knows when its registration is in doubt (not
     /// converged, or fitting clearly worse than this map gives), the scan's information being
     /// taken at associations that may be wrong (a corridor's end wall coming into view 5 m from
     /// where the drifted pose puts it: 1 cm claimed, 5.4 m off). Its `info` is what the frame
-    /// then carries, its `cov` (floor included, `H` and `imu_deskewed` as for update()) what it
-    /// reports. Computed only for such a frame.
-    Update withoutScan(const Update& u, const Mat6d& H, bool imu_deskewed = false) const;
+    /// then carries, its `cov` (the same floor as `u`'s) what it reports. Computed only for such
+    /// a frame.
+    Update withoutScan(const Update& u) const;
     /// The frame is final: its information is the next frame's prior.
     void commit(const Update& u);
     /// Forget everything (a lost, diverged or relocalized frame).
     void reset();
     /// A pose's covariance from its information alone, floor included (unheld directions capped
     /// at kMaxSigma); the rotation's floor raised to what the map's coherent error leaves at the
-    /// lever arms of the scan information `H` (mapRotationFloor).
-    Mat6d covariance(const Mat6d& info, const Mat6d& H, bool imu_deskewed = false) const;
-    /// The std floor per body axis of a frame whose scan information is `H`.
-    Vec6d floor(const Mat6d& H, bool imu_deskewed = false) const;
+    /// lever arms of the scan information `floor.H` (mapRotationFloor); the position's floor
+    /// shaped by the map share where `floor` has one.
+    Mat6d covariance(const Mat6d& info, const FloorGeometry& floor) const;
+    /// The floor's covariance of a frame (body axes).
+    Mat6d floorCovariance(const FloorGeometry& floor) const;
+    /// The std floor per body axis without a map share (the constant floor's stds).
+    Vec6d floor(const FloorGeometry& floor) const;
 
    private:
     Vec6d floor_;

@@ -62,6 +62,14 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// run's misalignment): it turns the pose about body axis k by cov_map_xyz / r_k, r_k the
     /// scan's lever arm about k (fusion::mapRotationFloor); 0: no such floor
     double cov_map_xyz = 0.005;
+    /// [m] the prior map's error as a smooth random field (fusion::mapErrorShare): its
+    /// correlation length. The position's map floor (cov_floor_imu_xyz) is then the share of the
+    /// field the scan's footprint takes, not all of it on every axis; 0: all of it (the constant
+    /// floor)
+    double cov_map_length = 10.0;
+    /// [m] the grid the scan's correspondences are summed on for that share (doubled where a
+    /// scan spans more than fusion::kMapShareMaxCells cells)
+    double cov_map_cell = 4.0;
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 

@@ -91,7 +91,7 @@ class Tracker {
     /// the map gives: health's checks) keeps what it knew without its scan: `sol`'s posterior
     /// becomes that (what end() carries on), and its covariance, as posterior() reports it, is
     /// returned (doc/method.md §4).
-    Mat6d dropScan(const Frame& f, FrameSolution& sol) const;
+    Mat6d dropScan(FrameSolution& sol) const;
     /// The frame's correspondences back once nothing needs them: the next track() solves into
     /// them (no allocation per frame).
     void recycle(std::vector<Correspondence>&& corr) { spare_corr_ = std::move(corr); }
