@@ -44,17 +44,12 @@ Vec3d mapRotationFloor(const Mat6d& H, double map_sigma) {
 }
 
 namespace {
-/// One cell of mapErrorShare's grid: the translation information of its correspondences
-/// (xx xy xz yy yz zz) and their weighted centre.
+/// One cell of mapErrorShare's grid: the translation information of its correspondences and
+/// their weighted sum of positions (the centre is x / w).
 struct ShareCell {
-    double h[6] = {0, 0, 0, 0, 0, 0};
+    Mat3d H = Mat3d::Zero();
     Vec3d x = Vec3d::Zero();
     double w = 0;
-    Mat3d H() const {
-        Mat3d m;
-        m << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
-        return m;
-    }
 };
 
 /// Sums cells on a grid of `edge` metres, keyed by their points: a flat open-addressing table
@@ -96,7 +91,7 @@ std::vector<ShareCell> coarsen(const std::vector<ShareCell>& in, double edge) {
     CellGrid g(in.size(), edge);
     for (const ShareCell& c : in) {
         ShareCell& o = g.at(c.x / c.w);
-        for (int k = 0; k < 6; ++k) o.h[k] += c.h[k];
+        o.H += c.H;
         o.x += c.x;
         o.w += c.w;
     }
@@ -123,7 +118,7 @@ Mat3d mapErrorShare(const std::vector<Correspondence>& corr, const SE3d& T_map_i
         h *= c.weight;
         H += h;
         ShareCell& s = grid.at(c.q);
-        s.h[0] += h(0, 0), s.h[1] += h(0, 1), s.h[2] += h(0, 2), s.h[3] += h(1, 1), s.h[4] += h(1, 2), s.h[5] += h(2, 2);
+        s.H += h;
         s.x += c.weight * c.q;
         s.w += c.weight;
     }
@@ -143,19 +138,19 @@ Mat3d mapErrorShare(const std::vector<Correspondence>& corr, const SE3d& T_map_i
             unheld += v * v.transpose();
     }
     // S = sum_ij rho_ij H_i H_j over the cells (rho below 1e-4 left out: beyond 4.3 lengths).
-    std::vector<Mat3d> Hc(cells.size());
     std::vector<Vec3d> xc(cells.size());
-    for (size_t i = 0; i < cells.size(); ++i) Hc[i] = cells[i].H(), xc[i] = cells[i].x / cells[i].w;
+    for (size_t i = 0; i < cells.size(); ++i) xc[i] = cells[i].x / cells[i].w;
     const double inv2l2 = 1.0 / (2.0 * length * length), cutoff = -std::log(1e-4) / inv2l2;
     Mat3d S = Mat3d::Zero();
     for (size_t i = 0; i < cells.size(); ++i) {
-        S.noalias() += Hc[i] * Hc[i];
+        const Mat3d& Hi = cells[i].H;
+        S.noalias() += Hi * Hi;
         Mat3d cross = Mat3d::Zero();
         for (size_t j = i + 1; j < cells.size(); ++j) {
             const double d2 = (xc[i] - xc[j]).squaredNorm();
-            if (d2 < cutoff) cross.noalias() += std::exp(-d2 * inv2l2) * Hc[j];
+            if (d2 < cutoff) cross.noalias() += std::exp(-d2 * inv2l2) * cells[j].H;
         }
-        const Mat3d P = Hc[i] * cross;
+        const Mat3d P = Hi * cross;
         S += P + P.transpose();
     }
     Mat3d M = Hinv * S * Hinv;

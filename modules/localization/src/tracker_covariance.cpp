@@ -26,6 +26,8 @@ void Tracker::scanCovariance(FrameSolution& sol) const {
 }
 
 void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
+    // Timed with the risk stage, as scanCovariance() and the estimate's information are.
+    const auto t0 = Clock::now();
     // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
     EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_);
     fusion::FrameProblemInputs& in = w.in;
@@ -43,6 +45,7 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
                             floor);
     sol.report.cov = sol.post->cov + sweepCovariance(f, sol);
+    sol.report.ms.risk += msSince(t0);
 }
 
 Mat6d Tracker::dropScan(FrameSolution& sol) const {

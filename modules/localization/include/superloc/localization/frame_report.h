@@ -18,7 +18,7 @@ struct StageTimes {
     double predict = 0;     ///< IMU preintegration / constant-velocity prediction
     double preprocess = 0;  ///< range filter, voxel selection, feature cap, deskew
     double associate = 0;   ///< all association rounds (kd-tree queries, classification)
-    double risk = 0;        ///< alignment-risk analysis of the first association
+    double risk = 0;        ///< alignment risk of the first association, the estimate's information, the pose's covariance
     double solve = 0;       ///< Ceres solves (or the NDT registration)
     double total = 0;       ///< whole process() call
     double total_cpu = 0;   ///< CPU time of this thread in process() (robust to a busy machine)
