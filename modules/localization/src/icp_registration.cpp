@@ -59,6 +59,7 @@ class IcpRegistration::Schedule {
     }
     double kernelFloor() const { return kernel_scale_ * scale(); }
     double kernel() const {
+        if (settled_) return kernelFloor();
         return std::max(kernelFloor(), voxel_ ? (wide_ ? 0.5 : 0.25) * voxels_.levelSize(level_) * std::pow(0.5, in_stage_)
                                               : 0.5 * radius_ * std::pow(0.5, in_stage_));
     }
@@ -80,7 +81,13 @@ class IcpRegistration::Schedule {
     /// the next finer one.
     bool converged(double dxyz, double drot) {
         const bool small = dxyz < lp_.converged_xyz * scale() && drot < lp_.converged_deg * scale() * kDeg;
-        if (!(small && kernel() <= kernelFloor())) return false;
+        if (!(small && kernel() <= kernelFloor())) {
+            // A tracked frame whose round moved the pose less than settle_xyz / settle_deg at the
+            // finest resolution was predicted within the kernel floor's scale: the rounds left
+            // run at the floor (no annealing left to do), and it stops once settled there.
+            if (!wide_ && finest() && dxyz < lp_.settle_xyz && drot < lp_.settle_deg * kDeg) settled_ = true;
+            return false;
+        }
         if (finest()) return true;
         if (voxel_)
             --level_;
@@ -99,6 +106,7 @@ class IcpRegistration::Schedule {
     int level_;
     double radius_;
     int in_stage_ = 0;
+    bool settled_ = false;  ///< the kernel at its floor from the next round on
 };
 
 void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap,

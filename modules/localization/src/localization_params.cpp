@@ -46,6 +46,8 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(settle_xyz, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(settle_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(inlier_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(min_inlier_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_jump_xyz, double, c, s);
@@ -74,6 +76,8 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences (0: none used)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_xyz, "[m] tracked frame: a round's update below this (and settle_deg) ends the kernel's annealing; 0: off");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_deg, "[deg] ...and the rotation update below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(inlier_dist, "[m] feature residual below: inlier");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");
@@ -103,6 +107,8 @@ void LocalizationParams::validate() const {
     if (point_weight < 0) throw ConfigError("[localization] point_weight must be >= 0");
     positive(converged_xyz, "converged_xyz");
     positive(converged_deg, "converged_deg");
+    if (!(settle_xyz >= 0) || !std::isfinite(settle_xyz)) throw ConfigError("[localization] settle_xyz must be >= 0");
+    if (!(settle_deg >= 0) || !std::isfinite(settle_deg)) throw ConfigError("[localization] settle_deg must be >= 0");
     positive(inlier_dist, "inlier_dist");
     if (!(min_inlier_ratio >= 0 && min_inlier_ratio <= 1))
         throw ConfigError("[localization] min_inlier_ratio must be in [0, 1]");

@@ -50,6 +50,11 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     double point_weight = 0.0;
     double converged_xyz = 0.002;      ///< [m] stop re-associating when the update is below...
     double converged_deg = 0.02;       ///< [deg] ...both of these
+    /// A tracked frame's round that moved the pose less than settle_xyz and settle_deg (at the
+    /// finest resolution) ends the kernel's annealing: the next rounds run at its floor
+    /// (doc/localizer.md, "Rounds"); 0: anneal every round down to the floor
+    double settle_xyz = 0.05;          ///< [m]
+    double settle_deg = 0.5;           ///< [deg]
 
     // Divergence detection (reported per frame, the run goes on)
     double inlier_dist = 0.2;          ///< [m] a feature is an inlier when its residual is below
