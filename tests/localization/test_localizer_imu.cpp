@@ -29,7 +29,7 @@ struct RunOptions {
     double bob = 0;               ///< Motion::bob
     bool sweep_velocity = true;   ///< [localization] sweep_velocity
     bool imu_poses = true;        ///< [features] deskew_imu_poses
-    double settle_xyz = 0.05;     ///< [localization] settle_xyz (0: anneal every round)
+    double settle_xyz = 0;        ///< [localization] settle_xyz (0, the default: anneal every round)
 };
 
 /// 20 sweeps of the motion through the Localizer; per-frame translation errors into `errors`.
@@ -91,10 +91,10 @@ TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
 // rounds instead of the 4 of the full annealing, and land on the same poses (measured: within
 // 0.1 mm; the frames converge at the same floor either way).
 TEST(LocalizerImu, SettledFramesSkipTheAnnealing) {
-    const RunResult settled = run({});
-    RunOptions anneal;
-    anneal.settle_xyz = 0;
-    const RunResult full = run(anneal);
+    RunOptions settle;
+    settle.settle_xyz = 0.05;
+    const RunResult settled = run(settle);
+    const RunResult full = run({});
     const size_t tracked = settled.frames - 1;
     EXPECT_EQ(full.tracked_rounds, 4 * tracked);  // the kernel reaches its floor in round 4
     EXPECT_LE(settled.tracked_rounds, 3 * tracked);

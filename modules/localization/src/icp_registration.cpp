@@ -38,14 +38,15 @@ IcpRegistration::IcpRegistration(const LocalizerParams& params)
 class IcpRegistration::Schedule {
    public:
     Schedule(const LocalizationParams& lp, double kernel_scale, const map::VoxelMap& voxels, bool voxel, bool wide,
-             bool hypothesis)
+             bool hypothesis, bool may_settle)
         : lp_(lp),
           kernel_scale_(kernel_scale),
           voxels_(voxels),
           voxel_(voxel),
           wide_(wide),
           level_(voxel && wide ? (hypothesis ? std::min(1, voxels.levels() - 1) : voxels.levels() - 1) : 0),
-          radius_(!voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist) {}
+          radius_(!voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist),
+          may_settle_(may_settle && !wide) {}
 
     bool voxel() const { return voxel_; }
     int level() const { return level_; }
@@ -84,8 +85,9 @@ class IcpRegistration::Schedule {
         if (!(small && kernel() <= kernelFloor())) {
             // A tracked frame whose round moved the pose less than settle_xyz / settle_deg at the
             // finest resolution was predicted within the kernel floor's scale: the rounds left
-            // run at the floor (no annealing left to do), and it stops once settled there.
-            if (!wide_ && finest() && dxyz < lp_.settle_xyz && drot < lp_.settle_deg * kDeg) settled_ = true;
+            // run at the floor (no annealing left to do), and it stops once settled there. Not a
+            // search's hypothesis or the last scan's registration: their starts are guesses.
+            if (may_settle_ && finest() && dxyz < lp_.settle_xyz && drot < lp_.settle_deg * kDeg) settled_ = true;
             return false;
         }
         if (finest()) return true;
@@ -106,6 +108,7 @@ class IcpRegistration::Schedule {
     int level_;
     double radius_;
     int in_stage_ = 0;
+    bool may_settle_;       ///< a tracked frame's solve (not wide, not a hypothesis or the last scan's)
     bool settled_ = false;  ///< the kernel at its floor from the next round on
 };
 
@@ -198,7 +201,8 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     TrackReport& rep = sol.report;
     const map::PriorMap& map = *p.map;
     const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
-    Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis);
+    Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis,
+                   p.purpose == SolvePurpose::Track);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     std::vector<uint32_t> feature_of;
