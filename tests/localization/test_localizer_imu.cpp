@@ -87,9 +87,10 @@ TEST(LocalizerImu, TracksTurningSensorWithDeskew) {
 }
 
 // A tracked frame predicted within the kernel floor's scale stops annealing ([localization]
-// settle_xyz / settle_deg, IcpRegistration::Schedule): the IMU-predicted frames here take 2
-// rounds instead of the 4 of the full annealing, and land on the same poses (measured: within
-// 0.1 mm; the frames converge at the same floor either way).
+// settle_xyz / settle_deg, IcpRegistration::Schedule) once the last frame confirmed the motion
+// prediction: the IMU-predicted frames here take 2 rounds instead of the 4 of the full
+// annealing (the second frame, whose predecessor is the first, still anneals), and land on the
+// same poses (measured: 40 rounds against 76 over 19 frames, poses within 0.2 mm).
 TEST(LocalizerImu, SettledFramesSkipTheAnnealing) {
     RunOptions settle;
     settle.settle_xyz = 0.05;

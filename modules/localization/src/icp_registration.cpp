@@ -85,8 +85,10 @@ class IcpRegistration::Schedule {
         if (!(small && kernel() <= kernelFloor())) {
             // A tracked frame whose round moved the pose less than settle_xyz / settle_deg at the
             // finest resolution was predicted within the kernel floor's scale: the rounds left
-            // run at the floor (no annealing left to do), and it stops once settled there. Not a
-            // search's hypothesis or the last scan's registration: their starts are guesses.
+            // run at the floor (no annealing left to do), and it stops once settled there. Only
+            // where the last frame confirmed the motion prediction (RegistrationProblem::
+            // may_settle): not after a wide, ambiguous or last-scan start, never a search's
+            // hypothesis.
             if (may_settle_ && finest() && dxyz < lp_.settle_xyz && drot < lp_.settle_deg * kDeg) settled_ = true;
             return false;
         }
@@ -108,7 +110,7 @@ class IcpRegistration::Schedule {
     int level_;
     double radius_;
     int in_stage_ = 0;
-    bool may_settle_;       ///< a tracked frame's solve (not wide, not a hypothesis or the last scan's)
+    bool may_settle_;       ///< a tracked frame's solve whose prediction the last frame confirmed
     bool settled_ = false;  ///< the kernel at its floor from the next round on
 };
 
@@ -202,7 +204,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     const map::PriorMap& map = *p.map;
     const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
     Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis,
-                   p.purpose == SolvePurpose::Track);
+                   p.purpose == SolvePurpose::Track && p.may_settle);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     std::vector<uint32_t> feature_of;

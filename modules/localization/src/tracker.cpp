@@ -110,7 +110,10 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
-    trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu);
+    // A frame predicted from a motion the last frame confirmed may end its annealing early.
+    const bool may_settle = params_.loc.settle_xyz > 0 && prediction_confirmed_ && !velocity_unknown && !f.first &&
+                            !rep.motion_from_scan;
+    trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);
     // Step 6: report.
@@ -148,7 +151,7 @@ Tracker::EstimateWindow::EstimateWindow(const fusion::FrameState& prev, const fu
 }
 
 void Tracker::trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol, bool wide,
-                           const imu::Preintegration* imu) {
+                           const imu::Preintegration* imu, bool may_settle) {
     // What the method's odom_alt fusion sees of this frame (odom_alt looked up once per solve).
     FrameFusion fusion(*variant_.fusion, params_.fusion, params_.risk,
                        odom_link_.frame(have_prev_, sol.state.T_map_imu(), f.prev.T_map_imu(), f.prev.t, sol.state.t));
@@ -164,6 +167,7 @@ void Tracker::trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol
     }
     RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
     p.fusion = &fusion;
+    p.may_settle = may_settle && !wide;
     reg.solve(p, sol);
 }
 
@@ -321,6 +325,9 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     prev_marginal_ = own_solve ? sol.marginal : std::nullopt;
     // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
     const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
+    prediction_confirmed_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start &&
+                            !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
+                            rep.pred_ddeg < params_.loc.settle_deg;
     if (tracked) {
         if (sol.est_info) est_info_ = *sol.est_info;
         est_info_.commit(state, sol.scan_info);

@@ -83,6 +83,9 @@ struct RegistrationProblem {
     const fusion::StatePrior* prev_prior = nullptr;
     bool marginalize = false;
     RoundFusion* fusion = nullptr;  ///< purpose Track: the odom_alt fusion (never null then)
+    /// purpose Track: the motion prediction was confirmed on the last frame (Tracker), so a round
+    /// that barely moves the pose may end the kernel's annealing ([localization] settle_xyz)
+    bool may_settle = false;
 };
 
 class Registration {

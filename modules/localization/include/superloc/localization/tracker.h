@@ -101,8 +101,9 @@ class Tracker {
     /// with the IMU window's prior and marginal, `imu` when the frame has it.
     RegistrationProblem problem(Frame& f, SolvePurpose purpose, bool wide, const imu::Preintegration* imu) const;
     /// The IMU window and odom_alt fusion's solve (SolvePurpose::Track) of `sol` from its state,
-    /// by `reg`.
-    void trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu);
+    /// by `reg`; `may_settle`: RegistrationProblem::may_settle (the frame's own solve only).
+    void trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol, bool wide, const imu::Preintegration* imu,
+                      bool may_settle = false);
     /// Without IMU (unknown_velocity.cpp): f's features registered, wide and from no motion,
     /// against the last frame's scan; when that converges with enough inliers, the prediction
     /// becomes the motion it measured and true is returned (its times in f.report).
@@ -131,6 +132,10 @@ class Tracker {
     // What the next frame starts from.
     bool have_prev_ = false;
     bool restart_ = false;  ///< the last frame was relocalized or restarted: velocity unknown
+    /// The last frame was tracked from its motion prediction (not the last scan's, not wide),
+    /// converged, `ok`, and ended within settle_xyz / settle_deg of the prediction: the next
+    /// frame's solve may settle (RegistrationProblem::may_settle)
+    bool prediction_confirmed_ = false;
     fusion::FrameState prev_;
     std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
     /// The IMU window's prior on the previous state (FusionParams::window = marginalized): the
