@@ -185,3 +185,43 @@ TEST(EstimateInformation, PoseCovarianceTakesTheScanAsTheEstimateDoes) {
     EXPECT_NEAR(with_x, est_x, 0.05 * est_x);
     EXPECT_LT(without_x, 0.2 * est_x);
 }
+
+// The information of an estimate that weighed odom_alt above what it is worth
+// (imuWindowStateInformationWeighed, the baselines' covariance): with the weight right it is
+// the window's own information; with odom_alt weighed at 1 mm per frame while it is worth 10 cm,
+// the estimate follows odom_alt, and along x its position is no surer than odom_alt's 10 cm
+// added to what was carried, where the optimal weighting would have kept the IMU's share and
+// the claimed weight would say the carried 2 cm.
+TEST(EstimateInformation, AnOverweightedOdometryGivesTheEstimateItsOwnError) {
+    const imu::Preintegration pre = gravityOnly();
+    FrameState prev;
+    prev.setVelocity(Vec3d(5, 0, 0));
+    FrameState cur = nextAlongX(prev);
+    FrameProblemInputs in = window(prev, cur, pre);
+    FusionParams params;
+    RelativePosePrior p;
+    p.delta = prev.T_map_imu().inverse() * cur.T_map_imu();
+    const Vec6d worth = Vec6d::Constant(1.0 / (0.1 * 0.1));  // 10 cm / 0.1 rad per frame
+    p.sqrt_info = sqrtInfo(Mat6d(worth.asDiagonal()));
+    in.prior = p;
+    const auto right = imuWindowStateInformation(in, params);
+    const auto same = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()));
+    ASSERT_TRUE(right && same);
+    EXPECT_LT((*right - *same).norm(), 1e-6 * right->norm());
+    // Weighed at 1 mm per frame (B_s = 1e6), worth 10 cm.
+    in.prior->sqrt_info = sqrtInfo(Mat6d(Vec6d::Constant(1e6).asDiagonal()));
+    const auto over = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()));
+    const auto claimed = imuWindowStateInformation(in, params);  // as if odom_alt were 1 mm
+    ASSERT_TRUE(over && claimed);
+    const auto pose = [](const Mat15d& M) { return Mat6d(poseInformation(M).value()); };
+    const double sx_opt = std::sqrt(pose(*right).inverse()(0, 0));
+    const double sx_over = std::sqrt(pose(*over).inverse()(0, 0));
+    const double sx_claimed = std::sqrt(pose(*claimed).inverse()(0, 0));
+    const double sx_prev = params.prev_pose_sigma_xyz;  // what was carried (fixed prior)
+    EXPECT_NEAR(sx_claimed, std::hypot(sx_prev, 0.001), 0.001);  // the carried x and the claimed 1 mm
+    EXPECT_LT(sx_opt, 0.6 * sx_over);  // measured 0.049 against 0.102
+    // Following odom_alt: the carried x and odom_alt's 10 cm, within 5 %.
+    EXPECT_NEAR(sx_over, std::hypot(sx_prev, 0.1), 0.05 * std::hypot(sx_prev, 0.1));
+    std::cout << "x sigma: optimal " << sx_opt << " m, as weighed " << sx_over << " m, as claimed " << sx_claimed
+              << " m\n";
+}

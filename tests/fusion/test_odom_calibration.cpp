@@ -122,6 +122,43 @@ TEST(OdomCalibration, ForgetsWithTheDistanceTravelled) {
     EXPECT_NEAR(cal.drift().x(), 0.005, 1e-3);
 }
 
+// Without the correction (apply_correction = false, the baselines' covariance): the motion is
+// left as it is, and what the blocks measure is the raw error. A fixed drift of 2 %/m then keeps
+// its sign over every block, so a blind stretch's per-frame variances sum to the drift's square
+// over it, (0.02 D)^2, where the calibrated odometry's stay at the noise's.
+TEST(OdomCalibration, UncorrectedItIsWorthWhatTheRawMotionShows) {
+    std::mt19937 rng(5);
+    const Vec3d b(0.02, 0.0, 0.0);
+    OdomCalibrationParams p;
+    p.apply_correction = false;
+    OdomCalibration raw(p), cal;
+    for (int k = 0; k < 400; ++k) {  // 200 m, every axis held
+        const SE3d m = trueMotion(k);
+        const SE3d o = odometer(m, b, 0, 0, 0.0005, 0.0002, rng);
+        raw.update(o, m, all());
+        cal.update(o, m, all());
+    }
+    const SE3d o = odometer(trueMotion(400), b, 0, 0, 0.0005, 0.0002, rng);
+    EXPECT_TRUE(raw.correct(o).isApprox(o));       // nothing corrected
+    EXPECT_NEAR(raw.drift().x(), 0.02, 1e-3);      // though the fit is kept (its outlier test)
+    std::array<bool, 6> blind = all();
+    blind[0] = false;
+    double var_raw = 0, var_cal = 0;
+    for (int k = 400; k < 500; ++k) {  // 50 m with x blind
+        const SE3d m = trueMotion(k);
+        const SE3d ok = odometer(m, b, 0, 0, 0.0005, 0.0002, rng);
+        raw.update(ok, m, blind);
+        cal.update(ok, m, blind);
+        var_raw += std::pow(raw.sigma(m)[0], 2);
+        var_cal += std::pow(cal.sigma(m)[0], 2);
+    }
+    // The raw motion's error over the 50 m is 1 m: its summed std is that, within a fifth.
+    EXPECT_NEAR(std::sqrt(var_raw), 1.0, 0.2);
+    EXPECT_LT(std::sqrt(var_cal), 0.05);
+    // y was held: the raw worth there is the noise's (no drift on y).
+    EXPECT_LT(raw.sigma(trueMotion(0))[1], 0.002);
+}
+
 // What the corrected odometry is worth, out of sample (odom_calibration.h): with a fixed error
 // the calibration removes, the per-frame std right after a held frame is the noise left; it
 // grows with the distance since the axis was last held, so that a blind stretch's frames summed

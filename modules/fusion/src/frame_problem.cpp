@@ -31,13 +31,45 @@ namespace {
 /// pose, cur speed-bias] (tangent coordinates: map-frame translation, body rotation increment)
 /// at the solution, the previous state eliminated (Schur complement), expressed in
 /// StatePriorFactor's error coordinates (translation in the body axes of the reference).
-std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
+using Mat30d = Eigen::Matrix<double, 30, 30>;
+
+/// The problem's Jacobian over [prev pose, prev speed-bias, cur pose, cur speed-bias] at the
+/// states' values (tangent coordinates), robust losses applied.
+std::optional<ceres::CRSMatrix> windowJacobian(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
     ceres::Problem::EvaluateOptions eo;
     eo.parameter_blocks = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
     eo.apply_loss_function = true;
     eo.num_threads = 1;
     ceres::CRSMatrix J;
     if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J) || J.num_cols != 30) return std::nullopt;
+    return J;
+}
+
+/// The current state's information M (15 x 15, in the window's tangent coordinates) in
+/// StatePriorFactor's error coordinates (translation in the body axes of the reference), as a
+/// StatePrior at cur.
+std::optional<StatePrior> asStatePrior(Mat15d M, const FrameState& cur) {
+    // Tangent translation is in the map frame, the prior's error in the reference body axes:
+    // e = A d with A = diag(R^T, I, I), so the information is A M A^T.
+    const SE3d T = cur.T_map_imu();
+    Mat15d A = Mat15d::Identity();
+    A.topLeftCorner<3, 3>() = T.linear().transpose();
+    M = A * M * A.transpose();
+    M = 0.5 * (M + M.transpose());
+    const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
+    if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) return std::nullopt;
+    StatePrior p;
+    p.T_ref = T;
+    for (int k = 0; k < 9; ++k) p.sb_ref[k] = cur.speed_bias[k];
+    // L^T L = M with L = D^1/2 V^T (eigenvalues rounded up to 0).
+    p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
+    return p;
+}
+
+std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
+    const auto Jw = windowJacobian(problem, prev, cur);
+    if (!Jw) return std::nullopt;
+    const ceres::CRSMatrix& J = *Jw;
     // J^T J over each row's non-zeros only (a scan row touches the 6 columns of the current
     // pose): 36 products per scan residual instead of a dense 30 x 30 update. Each pair of a
     // row once, into the lower triangle, then mirrored: J_ra J_rb and J_rb J_ra are the same
@@ -58,22 +90,15 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
     // Hpp is positive definite: the previous state always has its prior.
     const Eigen::LDLT<Mat15d> ldlt(Hpp);
     if (ldlt.info() != Eigen::Success) return std::nullopt;
-    Mat15d M = Hcc - Hcp * ldlt.solve(Hcp.transpose());
-    // Tangent translation is in the map frame, the prior's error in the reference body axes:
-    // e = A d with A = diag(R^T, I, I), so the information is A M A^T.
-    const SE3d T = cur.T_map_imu();
-    Mat15d A = Mat15d::Identity();
-    A.topLeftCorner<3, 3>() = T.linear().transpose();
-    M = A * M * A.transpose();
-    M = 0.5 * (M + M.transpose());
-    const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
-    if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) return std::nullopt;
-    StatePrior p;
-    p.T_ref = T;
-    for (int k = 0; k < 9; ++k) p.sb_ref[k] = cur.speed_bias[k];
-    // L^T L = M with L = D^1/2 V^T (eigenvalues rounded up to 0).
-    p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
-    return p;
+    return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
+}
+
+/// J^T W J of a CRS Jacobian (dense 30 x 30), W = I.
+Mat30d normalMatrix(const ceres::CRSMatrix& J) {
+    Eigen::Matrix<double, Eigen::Dynamic, 30> D = Eigen::Matrix<double, Eigen::Dynamic, 30>::Zero(J.num_rows, 30);
+    for (int r = 0; r < J.num_rows; ++r)
+        for (int a = J.rows[r]; a < J.rows[r + 1]; ++a) D(r, J.cols[a]) = J.values[a];
+    return D.transpose() * D;
 }
 
 /// The scan-only problem (no IMU factor, no prior: real data without IMU, the start check's
@@ -280,6 +305,57 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
     const auto m = marginalize(problem, prev, cur);
     if (!m) return std::nullopt;
     return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);
+}
+
+std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs& in, const FusionParams& params,
+                                                       const Mat6d& worth) {
+    if (!in.prior) return imuWindowStateInformation(in, params);
+    if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
+    FrameState prev = *in.prev, cur = *in.cur;
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    static PoseManifold manifold;
+    // The window without odom_alt (IMU factor and the previous state's prior), and odom_alt's
+    // error alone (its factor with unit information): its 6 x 30 Jacobian.
+    ceres::Problem rest(popt), odom(popt);
+    for (ceres::Problem* q : {&rest, &odom})
+        for (FrameState* s : {&prev, &cur}) {
+            q->AddParameterBlock(s->pose, 7, &manifold);
+            q->AddParameterBlock(s->speed_bias, 9);
+        }
+    rest.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr, prev.pose,
+                          prev.speed_bias, cur.pose, cur.speed_bias);
+    rest.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
+                          nullptr, prev.pose, prev.speed_bias);
+    odom.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity()), nullptr, prev.pose, cur.pose);
+    const auto Jr = windowJacobian(rest, prev, cur), Jo = windowJacobian(odom, prev, cur);
+    if (!Jr || !Jo || Jo->num_rows != 6) return std::nullopt;
+    Eigen::Matrix<double, 6, 30> E = Eigen::Matrix<double, 6, 30>::Zero();
+    for (int r = 0; r < 6; ++r)
+        for (int a = Jo->rows[r]; a < Jo->rows[r + 1]; ++a) E(r, Jo->cols[a]) = Jo->values[a];
+    // The solve weighed odom_alt's error at B_s; it is worth B_t. Its estimate's error is then
+    // H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (the sandwich), H_s = H_rest + E^T B_s E.
+    const Mat6d Bs = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
+    const Eigen::SelfAdjointEigenSolver<Mat6d> et(0.5 * (worth + worth.transpose()));
+    if (et.info() != Eigen::Success) return std::nullopt;
+    const double tiny = 1e-12 * std::max(1.0, et.eigenvalues().cwiseAbs().maxCoeff());
+    Vec6d inv = Vec6d::Zero();
+    for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
+    const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
+    const Mat30d Hrest = normalMatrix(*Jr);
+    const Mat30d Hs = Hrest + E.transpose() * Bs * E;
+    const Mat30d N = Hrest + E.transpose() * (Bs * Bt_pinv * Bs) * E;
+    const Eigen::LDLT<Mat30d> ldlt(0.5 * (Hs + Hs.transpose()));
+    if (ldlt.info() != Eigen::Success) return std::nullopt;
+    const Mat30d Hinv = ldlt.solve(Mat30d::Identity());
+    const Mat30d C = Hinv * N * Hinv;
+    const Mat15d Ccc = 0.5 * (C.bottomRightCorner<15, 15>() + C.bottomRightCorner<15, 15>().transpose());
+    const Eigen::LDLT<Mat15d> lc(Ccc);
+    if (lc.info() != Eigen::Success || !(lc.vectorD().minCoeff() > 0)) return std::nullopt;
+    const auto p = asStatePrior(lc.solve(Mat15d::Identity()), cur);
+    if (!p) return std::nullopt;
+    return Mat15d(p->sqrt_info.transpose() * p->sqrt_info);
 }
 
 std::optional<Mat6d> poseInformation(const Mat15d& M) {

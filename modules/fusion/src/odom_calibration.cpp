@@ -150,7 +150,7 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
             a.ee[h] *= forget, a.ec[h] *= forget, a.cc[h] *= forget;
             a.len[h] *= forget, a.cnt[h] *= forget;
             if (!b.open && !cal) continue;
-            if (!b.open) b = Axis::Block{true, a.x, 0.0, 0.0, 0.0};
+            if (!b.open) b = Axis::Block{true, p_.apply_correction ? a.x : Eigen::Vector2d::Zero(), 0.0, 0.0, 0.0};
             b.S += r;
             b.C += reg.dot(b.x0);
             b.L += d;
@@ -178,6 +178,7 @@ std::array<bool, 6> OdomCalibration::update(const SE3d& odom, const SE3d& est, c
 bool OdomCalibration::calibrated(int k) const { return axes_[k].held_m >= p_.min_held_m && axes_[k].n >= 5; }
 
 SE3d OdomCalibration::correct(const SE3d& odom) const {
+    if (!p_.apply_correction) return odom;
     const double d = odom.translation().norm();
     Vec3d t = odom.translation(), phi = logSO3(odom.linear());
     for (int k = 0; k < 3; ++k)

@@ -198,7 +198,11 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
     if (in.imu && in.imu->dt() > 0) {
         FrameProblemInputs p = in;
         p.prev_prior = prior_ ? &*prior_ : nullptr;
-        if (const auto carried = imuWindowStateInformation(p, params)) {
+        // An odom_alt the solve weighed above what it is worth: the information of the estimate
+        // it made (the window's sandwich), not that of the estimate it should have made.
+        const auto carried = in.prior && in.prior->worth ? imuWindowStateInformationWeighed(p, params, *in.prior->worth)
+                                                         : imuWindowStateInformation(p, params);
+        if (carried) {
             u.with_imu = true;
             u.info_without_scan = *carried;
             u.info = *carried;
@@ -208,7 +212,8 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
     } else if (pose_prior_ && in.prior && in.prev) {
         // Without IMU: the last pose's information carried through odom_alt's relative prior,
         // the previous pose eliminated (Schur complement of the 12 x 12 joint information).
-        const Mat6d W = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
+        // Without IMU odom_alt alone carries the pose across the frame: at what it is worth.
+        const Mat6d W = in.prior->worth ? *in.prior->worth : Mat6d(in.prior->sqrt_info.transpose() * in.prior->sqrt_info);
         const Mat6d Jp = relativeJacobianPrev(in.prev->T_map_imu().inverse() * in.cur->T_map_imu());
         const Mat6d App = pose_prior_->second + Jp.transpose() * W * Jp;
         const Eigen::LDLT<Mat6d> ldlt(0.5 * (App + App.transpose()));

@@ -3,29 +3,60 @@
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/method_variant.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace superloc::localization {
 
 namespace {
 constexpr double kChi2Dof1P99 = 6.635;  ///< chi-square, 1 dof, 99 %
+
+/// The axes the scan alone held in a final frame: there the estimate is the scan's, and no
+/// odom_alt prior pulled it (superloc's prior lies along the estimate's weak directions only).
+std::array<bool, 6> heldByScan(const FusionFrame& f) {
+    const Mat6d Ps = f.scan.G * f.scan.G, Pe = f.est.G * f.est.G;
+    std::array<bool, 6> held{};
+    for (int k = 0; k < 6; ++k) held[k] = Ps(k, k) < 0.1 && Pe(k, k) < 0.1;
+    return held;
+}
+
+fusion::OdomCalibrationParams calibrationParams(const fusion::ActiveFusionParams& p, bool apply_correction) {
+    fusion::OdomCalibrationParams c;
+    c.memory_m = p.calibration_memory_m;
+    c.apply_correction = apply_correction;
+    return c;
+}
 }  // namespace
+
+RawOdomWorth::RawOdomWorth(const fusion::ActiveFusionParams& p) : raw_(calibrationParams(p, false)) {}
+
+void RawOdomWorth::learn(const FusionFrame& f) {
+    if (f.odom_delta) raw_.update(*f.odom_delta, f.T_prev_map_imu.inverse() * f.T_map_imu, heldByScan(f));
+}
+
+Mat6d RawOdomWorth::cap(const Vec6d& info, const SE3d& odom_delta) const {
+    const Vec6d s = raw_.sigma(odom_delta);
+    Vec6d w = info;
+    for (int k = 0; k < 6; ++k)
+        if (std::isfinite(s[k]) && s[k] > 0) w[k] = std::min(w[k], 1.0 / (s[k] * s[k]));
+    return Mat6d(w.asDiagonal());
+}
 
 std::optional<fusion::RelativePosePrior> OdomFusionPassive::prior(const FusionFrame& f,
                                                                   const risk::RiskReport&) const {
     if (!f.odom_delta) return std::nullopt;
     fusion::RelativePosePrior p;
     p.delta = *f.odom_delta;
-    p.sqrt_info = fusion::sqrtInfo(fusion::passiveInformation(p_));
+    const Vec6d info = fusion::passiveInformation(p_);
+    p.sqrt_info = fusion::sqrtInfo(info);
+    // The covariance takes odom_alt at no more than its raw motion has shown it is worth.
+    p.worth = worth_.cap(info, *f.odom_delta);
     return p;
 }
 
 OdomFusionActive::OdomFusionActive(const fusion::ActiveFusionParams& p, const Vec6d& weak_sigma)
-    : p_(p), weak_(weak_sigma), calib_([&] {
-          fusion::OdomCalibrationParams c;
-          c.memory_m = p.calibration_memory_m;
-          return c;
-      }()) {}
+    : p_(p), weak_(weak_sigma), calib_(calibrationParams(p, true)) {}
 
 std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFrame& f,
                                                                  const risk::RiskReport&) const {
@@ -67,13 +98,9 @@ std::optional<SE3d> OdomFusionActive::motion(const SE3d& odom_delta) const {
 
 void OdomFusionActive::frameDone(const FusionFrame& f) {
     if (!p_.odom_calibration || !f.odom_delta) return;
-    // Learn only where the scan alone held the axis: there the estimate is the scan's, and no
-    // odom_alt prior pulled it (the prior lies along the estimate's weak directions only).
-    const Mat6d Ps = f.scan.G * f.scan.G, Pe = f.est.G * f.est.G;
-    std::array<bool, 6> held{};
-    for (int k = 0; k < 6; ++k) held[k] = Ps(k, k) < 0.1 && Pe(k, k) < 0.1;
-    // Every frame: the unheld axes count the travel since they were last held.
-    calib_.update(*f.odom_delta, f.T_prev_map_imu.inverse() * f.T_map_imu, held);
+    // Learn only where the scan alone held the axis. Every frame: the unheld axes count the
+    // travel since they were last held.
+    calib_.update(*f.odom_delta, f.T_prev_map_imu.inverse() * f.T_map_imu, heldByScan(f));
 }
 
 std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFrame& f,
@@ -94,7 +121,8 @@ std::optional<fusion::RelativePosePrior> OdomFusionPaper::prior(const FusionFram
     // the pose's covariance takes odom_alt at no more than the per-frame std the passive prior
     // is configured with (passive_sigma_*), else a blind axis reports the scan's millimetres
     // while the odometry drifts metres (doc/method.md §4).
-    p.worth = Mat6d(W.cwiseMin(fusion::passiveInformation(p_)).asDiagonal());
+    // Nor more than odom_alt's raw motion has shown it is worth (RawOdomWorth).
+    p.worth = worth_.cap(W.cwiseMin(fusion::passiveInformation(p_)), *f.odom_delta);
     return p;
 }
 

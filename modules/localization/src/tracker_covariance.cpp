@@ -31,10 +31,8 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     // The IMU chain as it really errs, odom_alt at what it is worth (pose_posterior.h).
     EstimateWindow w(f.prev, sol.state, f.pred.used_imu && !f.first ? &f.pre : nullptr, params_);
     fusion::FrameProblemInputs& in = w.in;
-    if (sol.prior && !f.first) {
-        in.prior = *sol.prior;
-        if (sol.prior->worth) in.prior->sqrt_info = fusion::sqrtInfo(*sol.prior->worth);
-    }
+    // odom_alt's prior as the solve weighed it, with what it is worth (PosePosterior::update).
+    if (sol.prior && !f.first) in.prior = *sol.prior;
     // The scan as the estimate adds it: nothing below the noise floor along a direction the
     // carried information leaves weak (EstimateInformation::scanPart, doc/method.md §4).
     fusion::FloorGeometry floor(sol.scan_info, deskewedAlongImu(f));

@@ -54,6 +54,10 @@ struct OdomCalibrationParams {
     /// Out-of-sample blocks of held travel [m], ascending (kHorizons of them).
     std::array<double, 7> horizons{2.5, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0};
     int min_blocks = 3;  ///< [-] blocks of a length before it counts in the worth's fit
+    /// false: nothing is corrected (correct() returns odom_alt's motion as it is) and the blocks
+    /// measure the raw motion's error: what the uncalibrated odom_alt is worth, the pose
+    /// covariance of the methods that fuse it raw (passive, superloc_paper; doc/method.md §4).
+    bool apply_correction = true;
 };
 
 class OdomCalibration {

@@ -93,15 +93,35 @@ class OdomFusion {
 /// icp, ndt: the scan alone (and the IMU).
 class OdomFusionNone : public OdomFusion {};
 
+/// What odom_alt fused as it is (no correction) is worth, for the pose's covariance of the
+/// methods that fuse it so (passive, superloc_paper; doc/method.md §4): its raw motion's error
+/// measured out of sample on the axes the scan held (fusion::OdomCalibration without the
+/// correction), at the distance since each axis was held. It does not change what the methods
+/// fuse, only what their covariance and health say of it.
+class RawOdomWorth {
+   public:
+    explicit RawOdomWorth(const fusion::ActiveFusionParams& p);
+    /// Once a frame is final (OdomFusion::frameDone).
+    void learn(const FusionFrame& f);
+    /// `info` (per-axis information, body axes) capped at what odom_alt's motion `odom_delta`
+    /// has shown it is worth (axes not measured yet: `info`).
+    Mat6d cap(const Vec6d& info, const SE3d& odom_delta) const;
+
+   private:
+    fusion::OdomCalibration raw_;
+};
+
 /// passive: the relative-pose prior with a fixed information (doc/method.md §2).
 class OdomFusionPassive : public OdomFusion {
    public:
-    explicit OdomFusionPassive(const fusion::ActiveFusionParams& p) : p_(p) {}
+    explicit OdomFusionPassive(const fusion::ActiveFusionParams& p) : p_(p), worth_(p) {}
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport&) const override;
+    void frameDone(const FusionFrame& f) override { worth_.learn(f); }
 
    private:
     fusion::ActiveFusionParams p_;
+    RawOdomWorth worth_;
 };
 
 /// superloc (doc/method.md §2): odom_alt's motion, its systematic error fitted online on the
@@ -133,12 +153,14 @@ class OdomFusionActive : public OdomFusion {
 /// W = diag(max(0, 1 - gamma)) s (paper §III-C; doc/method.md §2, the ablation).
 class OdomFusionPaper : public OdomFusion {
    public:
-    explicit OdomFusionPaper(const fusion::ActiveFusionParams& p) : p_(p) {}
+    explicit OdomFusionPaper(const fusion::ActiveFusionParams& p) : p_(p), worth_(p) {}
     bool usesOdomAlt() const override { return true; }
     std::optional<fusion::RelativePosePrior> prior(const FusionFrame& f, const risk::RiskReport& risk) const override;
+    void frameDone(const FusionFrame& f) override { worth_.learn(f); }
 
    private:
     fusion::ActiveFusionParams p_;
+    RawOdomWorth worth_;
 };
 
 /// eigen_remap (Zhang, Kaess, Singh, ICRA 2016): each round's update is kept along the
