@@ -346,10 +346,13 @@ std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs&
     const Mat30d Hrest = normalMatrix(*Jr);
     const Mat30d Hs = Hrest + E.transpose() * Bs * E;
     const Mat30d N = Hrest + E.transpose() * (Bs * Bt_pinv * Bs) * E;
-    const Eigen::LDLT<Mat30d> ldlt(0.5 * (Hs + Hs.transpose()));
+    // Jacobi-scaled (the window's blocks span ten decades of information).
+    const Eigen::Matrix<double, 30, 1> d = Hs.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    const Mat30d Hs_d = d.asDiagonal() * Hs * d.asDiagonal(), N_d = d.asDiagonal() * N * d.asDiagonal();
+    const Eigen::LDLT<Mat30d> ldlt(0.5 * (Hs_d + Hs_d.transpose()));
     if (ldlt.info() != Eigen::Success) return std::nullopt;
-    const Mat30d Hinv = ldlt.solve(Mat30d::Identity());
-    const Mat30d C = Hinv * N * Hinv;
+    const Mat30d X = ldlt.solve(Mat30d::Identity());
+    const Mat30d C = d.asDiagonal() * (X * N_d * X) * d.asDiagonal();
     const Mat15d Ccc = 0.5 * (C.bottomRightCorner<15, 15>() + C.bottomRightCorner<15, 15>().transpose());
     const Eigen::LDLT<Mat15d> lc(Ccc);
     if (lc.info() != Eigen::Success || !(lc.vectorD().minCoeff() > 0)) return std::nullopt;
