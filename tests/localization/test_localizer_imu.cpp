@@ -29,7 +29,7 @@ struct RunOptions {
     double bob = 0;               ///< Motion::bob
     bool sweep_velocity = true;   ///< [localization] sweep_velocity
     bool imu_poses = true;        ///< [features] deskew_imu_poses
-    double settle_xyz = 0;        ///< [localization] settle_xyz (0, the default: anneal every round)
+    double settle_xyz = 0;        ///< [localization] settle_xyz (0: anneal every round; the default is 0.05)
 };
 
 /// 20 sweeps of the motion through the Localizer; per-frame translation errors into `errors`.

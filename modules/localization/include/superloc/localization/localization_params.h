@@ -51,10 +51,10 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     double converged_xyz = 0.002;      ///< [m] stop re-associating when the update is below...
     double converged_deg = 0.02;       ///< [deg] ...both of these
     /// A tracked frame's round that moved the pose less than settle_xyz and settle_deg (at the
-    /// finest resolution) ends the kernel's annealing: the next rounds run at its floor
-    /// (doc/localizer.md step 5); 0 (the default): anneal every round down to the floor. Off by
-    /// default: from KITTI's perturbed start it keeps frames 2-3 0.7-0.9 m off (doc/results.md)
-    double settle_xyz = 0.0;           ///< [m]
+    /// finest resolution) ends the kernel's annealing: the next rounds run at its floor, where
+    /// the last frame confirmed the motion prediction (doc/localizer.md step 5); 0: anneal every
+    /// round down to the floor
+    double settle_xyz = 0.05;          ///< [m]
     double settle_deg = 0.5;           ///< [deg]
 
     // Divergence detection (reported per frame, the run goes on)
