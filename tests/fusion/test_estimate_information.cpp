@@ -208,6 +208,14 @@ TEST(EstimateInformation, AnOverweightedOdometryGivesTheEstimateItsOwnError) {
     const auto same = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()));
     ASSERT_TRUE(right && same);
     EXPECT_LT((*right - *same).norm(), 1e-6 * right->norm());
+    // The scan inside the sandwich is the scan added after it, when every weight is its worth.
+    Mat6d H = Mat6d::Identity() * 1e4;
+    H(0, 0) = 10.0;  // a corridor: x barely held
+    const auto with_scan = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()), &H);
+    ASSERT_TRUE(with_scan);
+    Mat15d added = *right;
+    added.topLeftCorner<6, 6>() += H;
+    EXPECT_LT((added - *with_scan).norm(), 1e-6 * added.norm());
     // Weighed at 1 mm per frame (B_s = 1e6), worth 10 cm.
     in.prior->sqrt_info = sqrtInfo(Mat6d(Vec6d::Constant(1e6).asDiagonal()));
     const auto over = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()));
@@ -222,6 +230,23 @@ TEST(EstimateInformation, AnOverweightedOdometryGivesTheEstimateItsOwnError) {
     EXPECT_LT(sx_opt, 0.6 * sx_over);  // measured 0.049 against 0.102
     // Following odom_alt: the carried x and odom_alt's 10 cm, within 5 %.
     EXPECT_NEAR(sx_over, std::hypot(sx_prev, 0.1), 0.05 * std::hypot(sx_prev, 0.1));
+    // A scan that holds x to 1 cm, weighed by the same solve: the stiff odom_alt drags the
+    // previous pose along, so the scan still pulls the estimate, but the estimate mixes in a
+    // share of odom_alt's error (its weight against the carried 2 cm): x lands between the
+    // scan added to the sandwich afterwards (as if the scan had been weighed optimally against
+    // it) and odom_alt's own. Measured: 0.022 m, against 0.0089 m and 0.102 m.
+    Mat6d Hx = Mat6d::Zero();
+    Hx(0, 0) = 1e4;
+    const auto over_scan = imuWindowStateInformationWeighed(in, params, Mat6d(worth.asDiagonal()), &Hx);
+    ASSERT_TRUE(over_scan);
+    Mat15d after = *over;
+    after.topLeftCorner<6, 6>() += Hx;
+    const double sx_after = std::sqrt(pose(after).inverse()(0, 0));
+    const double sx_inside = std::sqrt(pose(*over_scan).inverse()(0, 0));
+    EXPECT_GT(sx_inside, 2.0 * sx_after);
+    EXPECT_LT(sx_inside, 0.5 * sx_over);
+    // 0.8 of the scan's 1 cm and 0.2 of the carried 2 cm with odom_alt's 10 cm (weights 1e4 : 2500).
+    EXPECT_NEAR(sx_inside, std::sqrt(0.64e-4 + 0.04 * (sx_prev * sx_prev + 0.01)), 0.002);
     std::cout << "x sigma: optimal " << sx_opt << " m, as weighed " << sx_over << " m, as claimed " << sx_claimed
               << " m\n";
 }

@@ -308,7 +308,7 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
 }
 
 std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs& in, const FusionParams& params,
-                                                       const Mat6d& worth) {
+                                                       const Mat6d& worth, const Mat6d* scan) {
     if (!in.prior) return imuWindowStateInformation(in, params);
     if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
     FrameState prev = *in.prev, cur = *in.cur;
@@ -343,7 +343,15 @@ std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs&
     Vec6d inv = Vec6d::Zero();
     for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
     const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
-    const Mat30d Hrest = normalMatrix(*Jr);
+    Mat30d Hrest = normalMatrix(*Jr);
+    if (scan) {
+        // The scan on the current pose, weighed by the solve as it is worth: its information in
+        // body axes (a right perturbation) is A^T H A in the window's tangent coordinates
+        // (translation in the map frame), A = diag(R^T, I).
+        Mat6d A = Mat6d::Identity();
+        A.topLeftCorner<3, 3>() = cur.T_map_imu().linear().transpose();
+        Hrest.block<6, 6>(15, 15) += A.transpose() * *scan * A;
+    }
     const Mat30d Hs = Hrest + E.transpose() * Bs * E;
     const Mat30d N = Hrest + E.transpose() * (Bs * Bt_pinv * Bs) * E;
     // Jacobi-scaled (the window's blocks span ten decades of information).

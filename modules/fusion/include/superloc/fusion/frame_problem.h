@@ -89,8 +89,11 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
 /// inverted. Equal to imuWindowStateInformation with the prior at B_t when B_s = B_t; an
 /// overweighted odom_alt makes the estimate follow it, and its error be odom_alt's (the
 /// baselines' covariance, doc/method.md §4). Without `in.prior`: imuWindowStateInformation.
+/// `scan` (optional): the scan's information on the current pose (body axes, as
+/// scanInformation), inside the sandwich: an odom_alt weighed far above its worth also keeps the
+/// estimate from following the scan, so the scan's information cannot be added afterwards.
 std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs& in, const FusionParams& params,
-                                                       const Mat6d& worth);
+                                                       const Mat6d& worth, const Mat6d* scan = nullptr);
 
 /// The pose's information in a state information M (15 x 15, pose first): velocity and biases
 /// eliminated by the Schur complement. Empty when their block is singular.
