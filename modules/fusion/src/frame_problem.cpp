@@ -66,15 +66,13 @@ std::optional<StatePrior> asStatePrior(Mat15d M, const FrameState& cur) {
     return p;
 }
 
-std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
-    const auto Jw = windowJacobian(problem, prev, cur);
-    if (!Jw) return std::nullopt;
-    const ceres::CRSMatrix& J = *Jw;
-    // J^T J over each row's non-zeros only (a scan row touches the 6 columns of the current
-    // pose): 36 products per scan residual instead of a dense 30 x 30 update. Each pair of a
-    // row once, into the lower triangle, then mirrored: J_ra J_rb and J_rb J_ra are the same
-    // product, summed over the rows in the same order, so the same bits as both halves summed.
-    Eigen::Matrix<double, 30, 30> H = Eigen::Matrix<double, 30, 30>::Zero();
+/// J^T J of a window Jacobian (30 columns) over each row's non-zeros only (a scan row touches the
+/// 6 columns of the current pose): 36 products per scan residual instead of a dense 30 x 30
+/// update. Each pair of a row once, into the lower triangle, then mirrored: J_ra J_rb and J_rb
+/// J_ra are the same product, summed over the rows in the same order, so the same bits as both
+/// halves summed.
+Mat30d normalMatrix(const ceres::CRSMatrix& J) {
+    Mat30d H = Mat30d::Zero();
     for (int r = 0; r < J.num_rows; ++r)
         for (int a = J.rows[r]; a < J.rows[r + 1]; ++a) {
             const int ca = J.cols[a];
@@ -85,6 +83,13 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
             }
         }
     H.triangularView<Eigen::StrictlyUpper>() = H.transpose();
+    return H;
+}
+
+std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
+    const auto J = windowJacobian(problem, prev, cur);
+    if (!J) return std::nullopt;
+    const Mat30d H = normalMatrix(*J);
     const Mat15d Hpp = H.topLeftCorner<15, 15>(), Hcc = H.bottomRightCorner<15, 15>();
     const Mat15d Hcp = H.bottomLeftCorner<15, 15>();
     // Hpp is positive definite: the previous state always has its prior.
@@ -93,12 +98,26 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
     return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
 }
 
-/// J^T W J of a CRS Jacobian (dense 30 x 30), W = I.
-Mat30d normalMatrix(const ceres::CRSMatrix& J) {
-    Eigen::Matrix<double, Eigen::Dynamic, 30> D = Eigen::Matrix<double, Eigen::Dynamic, 30>::Zero(J.num_rows, 30);
-    for (int r = 0; r < J.num_rows; ++r)
-        for (int a = J.rows[r]; a < J.rows[r + 1]; ++a) D(r, J.cols[a]) = J.values[a];
-    return D.transpose() * D;
+/// The IMU window's problem over copies `prev`, `cur` of in's states: both states' blocks, the
+/// IMU factor and the previous state's prior (in.prev_prior, else the fixed sigmas).
+void addImuWindow(ceres::Problem& problem, const FrameProblemInputs& in, const FusionParams& params, FrameState& prev,
+                  FrameState& cur) {
+    static PoseManifold manifold;
+    for (FrameState* s : {&prev, &cur}) {
+        problem.AddParameterBlock(s->pose, 7, &manifold);
+        problem.AddParameterBlock(s->speed_bias, 9);
+    }
+    problem.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr,
+                             prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
+    problem.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
+                             nullptr, prev.pose, prev.speed_bias);
+}
+
+ceres::Problem::Options windowProblemOptions() {
+    ceres::Problem::Options popt;
+    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    return popt;
 }
 
 /// The scan-only problem (no IMU factor, no prior: real data without IMU, the start check's
@@ -286,19 +305,8 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
     if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
     // Copies: the problem's blocks are ours, and the caller's states stay as they are.
     FrameState prev = *in.prev, cur = *in.cur;
-    ceres::Problem::Options popt;
-    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    ceres::Problem problem(popt);
-    static PoseManifold manifold;
-    for (FrameState* s : {&prev, &cur}) {
-        problem.AddParameterBlock(s->pose, 7, &manifold);
-        problem.AddParameterBlock(s->speed_bias, 9);
-    }
-    problem.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr,
-                             prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
-    problem.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
-                             nullptr, prev.pose, prev.speed_bias);
+    ceres::Problem problem(windowProblemOptions());
+    addImuWindow(problem, in, params, prev, cur);
     if (in.prior)  // odom_alt's relative motion between the two states (PosePosterior)
         problem.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), nullptr, prev.pose,
                                  cur.pose);
@@ -307,53 +315,11 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
     return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);
 }
 
-std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs& in, const FusionParams& params,
-                                                       const Mat6d& worth, const Mat6d* scan) {
-    if (!in.prior) return imuWindowStateInformation(in, params);
-    if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
-    FrameState prev = *in.prev, cur = *in.cur;
-    ceres::Problem::Options popt;
-    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    static PoseManifold manifold;
-    // The window without odom_alt (IMU factor and the previous state's prior), and odom_alt's
-    // error alone (its factor with unit information): its 6 x 30 Jacobian.
-    ceres::Problem rest(popt), odom(popt);
-    for (ceres::Problem* q : {&rest, &odom})
-        for (FrameState* s : {&prev, &cur}) {
-            q->AddParameterBlock(s->pose, 7, &manifold);
-            q->AddParameterBlock(s->speed_bias, 9);
-        }
-    rest.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr, prev.pose,
-                          prev.speed_bias, cur.pose, cur.speed_bias);
-    rest.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
-                          nullptr, prev.pose, prev.speed_bias);
-    odom.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity()), nullptr, prev.pose, cur.pose);
-    const auto Jr = windowJacobian(rest, prev, cur), Jo = windowJacobian(odom, prev, cur);
-    if (!Jr || !Jo || Jo->num_rows != 6) return std::nullopt;
-    Eigen::Matrix<double, 6, 30> E = Eigen::Matrix<double, 6, 30>::Zero();
-    for (int r = 0; r < 6; ++r)
-        for (int a = Jo->rows[r]; a < Jo->rows[r + 1]; ++a) E(r, Jo->cols[a]) = Jo->values[a];
-    // The solve weighed odom_alt's error at B_s; it is worth B_t. Its estimate's error is then
-    // H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (the sandwich), H_s = H_rest + E^T B_s E.
-    const Mat6d Bs = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
-    const Eigen::SelfAdjointEigenSolver<Mat6d> et(0.5 * (worth + worth.transpose()));
-    if (et.info() != Eigen::Success) return std::nullopt;
-    const double tiny = 1e-12 * std::max(1.0, et.eigenvalues().cwiseAbs().maxCoeff());
-    Vec6d inv = Vec6d::Zero();
-    for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
-    const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
-    Mat30d Hrest = normalMatrix(*Jr);
-    if (scan) {
-        // The scan on the current pose, weighed by the solve as it is worth: its information in
-        // body axes (a right perturbation) is A^T H A in the window's tangent coordinates
-        // (translation in the map frame), A = diag(R^T, I).
-        Mat6d A = Mat6d::Identity();
-        A.topLeftCorner<3, 3>() = cur.T_map_imu().linear().transpose();
-        Hrest.block<6, 6>(15, 15) += A.transpose() * *scan * A;
-    }
-    const Mat30d Hs = Hrest + E.transpose() * Bs * E;
-    const Mat30d N = Hrest + E.transpose() * (Bs * Bt_pinv * Bs) * E;
+namespace {
+/// The current state's information (StatePrior coordinates) of the estimate that weighed the
+/// window H_rest + E^T B_s E while its noise is H_rest + E^T B_s B_t^+ B_s E: the inverse of the
+/// current-state block of the sandwich H_s^-1 N H_s^-1.
+std::optional<Mat15d> sandwichInformation(const Mat30d& Hs, const Mat30d& N, const FrameState& cur) {
     // Jacobi-scaled (the window's blocks span ten decades of information).
     const Eigen::Matrix<double, 30, 1> d = Hs.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
     const Mat30d Hs_d = d.asDiagonal() * Hs * d.asDiagonal(), N_d = d.asDiagonal() * N * d.asDiagonal();
@@ -367,6 +333,51 @@ std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs&
     const auto p = asStatePrior(lc.solve(Mat15d::Identity()), cur);
     if (!p) return std::nullopt;
     return Mat15d(p->sqrt_info.transpose() * p->sqrt_info);
+}
+}  // namespace
+
+std::optional<WeighedWindowInformation> imuWindowStateInformationWeighed(const FrameProblemInputs& in,
+                                                                         const FusionParams& params,
+                                                                         const Mat6d& worth, const Mat6d& scan) {
+    if (!in.prior || !in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
+    FrameState prev = *in.prev, cur = *in.cur;
+    // The window without odom_alt (IMU factor and the previous state's prior), and odom_alt's
+    // error alone (its factor with unit information): its 6 x 30 Jacobian E.
+    ceres::Problem rest(windowProblemOptions());
+    addImuWindow(rest, in, params, prev, cur);
+    rest.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity()), nullptr, prev.pose, cur.pose);
+    const auto J = windowJacobian(rest, prev, cur);
+    if (!J || J->num_rows < 6) return std::nullopt;
+    // The relative factor's 6 rows are the last ones; the others are H_rest's.
+    ceres::CRSMatrix Jr = *J;
+    Jr.num_rows -= 6;
+    Jr.rows.resize(static_cast<size_t>(Jr.num_rows) + 1);
+    Eigen::Matrix<double, 6, 30> E = Eigen::Matrix<double, 6, 30>::Zero();
+    for (int r = 0; r < 6; ++r)
+        for (int a = J->rows[Jr.num_rows + r]; a < J->rows[Jr.num_rows + r + 1]; ++a)
+            E(r, J->cols[a]) = J->values[a];
+    // The solve weighed odom_alt's error at B_s; it is worth B_t. Its estimate's error is then
+    // H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (the sandwich), H_s = H_rest + E^T B_s E.
+    const Mat6d Bs = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
+    const Eigen::SelfAdjointEigenSolver<Mat6d> et(0.5 * (worth + worth.transpose()));
+    if (et.info() != Eigen::Success) return std::nullopt;
+    const double tiny = 1e-12 * std::max(1.0, et.eigenvalues().cwiseAbs().maxCoeff());
+    Vec6d inv = Vec6d::Zero();
+    for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
+    const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
+    const Mat30d Hrest = normalMatrix(Jr);
+    const Mat30d Hodom = E.transpose() * Bs * E, Nodom = E.transpose() * (Bs * Bt_pinv * Bs) * E;
+    // The scan on the current pose, weighed by the solve as it is worth: its information in body
+    // axes (a right perturbation) is A^T H A in the window's tangent coordinates (translation in
+    // the map frame), A = diag(R^T, I).
+    Mat6d A = Mat6d::Identity();
+    A.topLeftCorner<3, 3>() = cur.T_map_imu().linear().transpose();
+    Mat30d Hscan = Mat30d::Zero();
+    Hscan.block<6, 6>(15, 15) = A.transpose() * scan * A;
+    const auto without = sandwichInformation(Hrest + Hodom, Hrest + Nodom, cur);
+    const auto with = sandwichInformation(Hrest + Hscan + Hodom, Hrest + Hscan + Nodom, cur);
+    if (!without || !with) return std::nullopt;
+    return WeighedWindowInformation{*without, *with};
 }
 
 std::optional<Mat6d> poseInformation(const Mat15d& M) {

@@ -201,20 +201,19 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
         // An odom_alt the solve weighed above what it is worth: the information of the estimate
         // it made (the window's sandwich, with and without the scan), not that of the estimate
         // it should have made.
-        const bool weighed = in.prior && in.prior->worth;
-        const auto carried = weighed ? imuWindowStateInformationWeighed(p, params, *in.prior->worth)
-                                     : imuWindowStateInformation(p, params);
-        const auto with_scan = weighed && carried
-                                   ? imuWindowStateInformationWeighed(p, params, *in.prior->worth, &H_added)
-                                   : std::nullopt;
-        if (carried && (!weighed || with_scan)) {
+        if (in.prior && in.prior->worth) {
+            if (const auto w = imuWindowStateInformationWeighed(p, params, *in.prior->worth, H_added)) {
+                u.with_imu = true;
+                u.info_without_scan = w->without_scan;
+                u.info = w->with_scan;
+            }
+        } else if (const auto carried = imuWindowStateInformation(p, params)) {
             u.with_imu = true;
             u.info_without_scan = *carried;
             u.info = *carried;
-            if (with_scan)
-                u.info = *with_scan;
-            else
-                u.info.topLeftCorner<6, 6>() += H_added;
+            u.info.topLeftCorner<6, 6>() += H_added;
+        }
+        if (u.with_imu) {
             if (const auto I = poseInformation(u.info)) pose_info = *I;
         }
     } else if (pose_prior_ && in.prior && in.prev) {

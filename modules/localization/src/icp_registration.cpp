@@ -46,7 +46,7 @@ class IcpRegistration::Schedule {
           wide_(wide),
           level_(voxel && wide ? (hypothesis ? std::min(1, voxels.levels() - 1) : voxels.levels() - 1) : 0),
           radius_(!voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist),
-          may_settle_(may_settle && !wide) {}
+          may_settle_(may_settle) {}
 
     bool voxel() const { return voxel_; }
     int level() const { return level_; }
@@ -204,7 +204,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     const map::PriorMap& map = *p.map;
     const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
     Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis,
-                   p.purpose == SolvePurpose::Track && p.may_settle);
+                   p.may_settle);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     std::vector<uint32_t> feature_of;

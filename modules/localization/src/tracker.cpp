@@ -110,9 +110,9 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
-    // A frame predicted from a motion the last frame confirmed may end its annealing early.
-    const bool may_settle = params_.loc.settle_xyz > 0 && prediction_confirmed_ && !velocity_unknown && !f.first &&
-                            !rep.motion_from_scan;
+    // A frame predicted from a motion the last frame confirmed may end its annealing early
+    // (prediction_confirmed_ is false with settle_xyz = 0).
+    const bool may_settle = prediction_confirmed_ && !velocity_unknown && !rep.motion_from_scan;
     trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);

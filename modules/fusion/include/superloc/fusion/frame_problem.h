@@ -82,18 +82,25 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
 /// (without its robust loss) before the previous one is eliminated.
 std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, const FusionParams& params);
 
-/// The same for an estimate that weighed odom_alt's prior at `in.prior`'s sqrt_info (B_s) while
-/// it is worth `worth` (B_t): the information of that estimate's error, from the window's
-/// sandwich covariance H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (E: the prior's error
-/// Jacobian, H_rest: the IMU factor and the previous state's prior), its current-state block
-/// inverted. Equal to imuWindowStateInformation with the prior at B_t when B_s = B_t; an
-/// overweighted odom_alt makes the estimate follow it, and its error be odom_alt's (the
-/// baselines' covariance, doc/method.md §4). Without `in.prior`: imuWindowStateInformation.
-/// `scan` (optional): the scan's information on the current pose (body axes, as
-/// scanInformation), inside the sandwich: an odom_alt weighed far above its worth also keeps the
-/// estimate from following the scan, so the scan's information cannot be added afterwards.
-std::optional<Mat15d> imuWindowStateInformationWeighed(const FrameProblemInputs& in, const FusionParams& params,
-                                                       const Mat6d& worth, const Mat6d* scan = nullptr);
+/// The current state's information (as imuWindowStateInformation gives it) of an estimate that
+/// weighed odom_alt's prior at `in.prior`'s sqrt_info (B_s) while it is worth `worth` (B_t),
+/// without and with the scan's information `scan` on the current pose (body axes, as
+/// scanInformation).
+struct WeighedWindowInformation {
+    Mat15d without_scan;
+    Mat15d with_scan;
+};
+/// From the window's sandwich covariance H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (E: the
+/// prior's error Jacobian, H_rest: the IMU factor, the previous state's prior and, for
+/// `with_scan`, the scan), its current-state block inverted. Equal to imuWindowStateInformation
+/// with the prior at B_t when B_s = B_t; an overweighted odom_alt makes the estimate follow it
+/// and its error be odom_alt's (the baselines' covariance, doc/method.md §4). The scan is inside
+/// the sandwich: the solve weighed it against the overweighted odom_alt too, so its
+/// information cannot be added afterwards. One Jacobian evaluation for both. Empty without
+/// `in.prior` or IMU, or when the linearization fails.
+std::optional<WeighedWindowInformation> imuWindowStateInformationWeighed(const FrameProblemInputs& in,
+                                                                         const FusionParams& params,
+                                                                         const Mat6d& worth, const Mat6d& scan);
 
 /// The pose's information in a state information M (15 x 15, pose first): velocity and biases
 /// eliminated by the Schur complement. Empty when their block is singular.

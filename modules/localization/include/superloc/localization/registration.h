@@ -83,8 +83,9 @@ struct RegistrationProblem {
     const fusion::StatePrior* prev_prior = nullptr;
     bool marginalize = false;
     RoundFusion* fusion = nullptr;  ///< purpose Track: the odom_alt fusion (never null then)
-    /// purpose Track: the motion prediction was confirmed on the last frame (Tracker), so a round
-    /// that barely moves the pose may end the kernel's annealing ([localization] settle_xyz)
+    /// purpose Track, not wide: the motion prediction was confirmed on the last frame (the Tracker
+    /// decides; nothing else sets it), so a round that barely moves the pose may end the kernel's
+    /// annealing ([localization] settle_xyz)
     bool may_settle = false;
 };
 
