@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 #include <superloc/core/voxel.h>
 
+#include <random>
+#include <set>
+#include <tuple>
+
 using namespace superloc;
 
 TEST(Voxel, OnePointPerOccupiedCellNearestCentroid) {
@@ -44,4 +48,20 @@ TEST(Voxel, AnIndexBeyond62BitsIsAnErrorNamingTheVoxel) {
         EXPECT_NE(m.find("voxel size 1e-15 m is too small"), std::string::npos) << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;
     }
+}
+
+// VoxelSet answers as a std::set of the keys would, for negative, block-crossing and huge indices.
+TEST(Voxel, VoxelSetMatchesAnOrderedSet) {
+    std::mt19937_64 rng(9);
+    std::uniform_int_distribution<int64_t> small(-40, 40), huge(-(int64_t{1} << 61), int64_t{1} << 61);
+    std::set<std::tuple<int64_t, int64_t, int64_t>> ref;
+    VoxelSet set;
+    for (int i = 0; i < 200000; ++i) {
+        const bool far = i % 50 == 0;
+        const VoxelKey k{far ? huge(rng) : small(rng), small(rng), far ? huge(rng) : small(rng)};
+        const bool fresh = ref.insert({k.x, k.y, k.z}).second;
+        ASSERT_EQ(set.insert(k), fresh) << k.x << " " << k.y << " " << k.z;
+    }
+    EXPECT_EQ(set.size(), ref.size());
+    EXPECT_GT(set.memoryBytes(), 0u);
 }

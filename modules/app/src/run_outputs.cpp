@@ -150,7 +150,7 @@ void RunOutputs::addFrame(const localization::FrameReport& r, const SE3d& T, con
     cov_ << '\n' << std::flush;
     if (report_) report_->addFrame(r, T);
     for (const auto& p : map_points) {
-        if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_)).second) map_.push_back(p);
+        if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_))) map_.push_back(p);
     }
 }
 

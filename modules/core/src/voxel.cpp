@@ -7,6 +7,56 @@
 
 namespace superloc {
 
+uint32_t VoxelSet::findBlock(const VoxelKey& b) {
+    if (last_block_ != ~0u && b == last_) return last_block_;
+    if (2 * (blocks_.size() + 1) > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t h = VoxelKeyHash{}(b) & mask;; h = (h + 1) & mask) {
+        Slot& s = slots_[h];
+        if (s.block == ~0u) {
+            s.key = b;
+            s.block = static_cast<uint32_t>(blocks_.size());
+            blocks_.emplace_back();
+            break;
+        }
+        if (s.key == b) {
+            last_block_ = s.block;
+            last_ = b;
+            return s.block;
+        }
+    }
+    last_ = b;
+    return last_block_ = static_cast<uint32_t>(blocks_.size() - 1);
+}
+
+void VoxelSet::grow() {
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    const size_t mask = slots_.size() - 1;
+    for (const Slot& s : old) {
+        if (s.block == ~0u) continue;
+        for (size_t h = VoxelKeyHash{}(s.key) & mask;; h = (h + 1) & mask)
+            if (slots_[h].block == ~0u) {
+                slots_[h] = s;
+                break;
+            }
+    }
+}
+
+bool VoxelSet::insert(const VoxelKey& k) {
+    // Arithmetic shifts: floor division by 16 for negative indices too.
+    const uint32_t b = findBlock({k.x >> 4, k.y >> 4, k.z >> 4});
+    const unsigned bit = static_cast<unsigned>(((k.x & 15) << 8) | ((k.y & 15) << 4) | (k.z & 15));
+    uint64_t& word = blocks_[b].bits[bit >> 6];
+    const uint64_t m = uint64_t(1) << (bit & 63);
+    if (word & m) return false;
+    word |= m;
+    ++count_;
+    return true;
+}
+
+size_t VoxelSet::memoryBytes() const { return slots_.capacity() * sizeof(Slot) + blocks_.capacity() * sizeof(Block); }
+
 VoxelKey voxelKey(const Vec3f& p, float voxel) {
     // The division stays in float (the keys of every voxel size that fitted 32 bits are
     // unchanged); only the range check is new.

@@ -19,7 +19,6 @@
 #include <optional>
 #include <array>
 #include <string>
-#include <unordered_set>
 #include <vector>
 
 namespace superloc::io {
@@ -92,7 +91,7 @@ class RunOutputs {
     std::ofstream csv_;
     std::ofstream cov_;  ///< trajectory_cov.txt
     float voxel_;
-    std::unordered_set<VoxelKey, VoxelKeyHash> occupied_;
+    VoxelSet occupied_;
     std::vector<Vec3f> map_;
     std::optional<RunReport> report_;
 };
