@@ -48,6 +48,7 @@ PointCloud cylinderCloud(float r) {
 
 MapParams params(double voxel = 0.0, int k = 10) {
     MapParams p;
+    p.geometry_at_load = false;  // each point's geometry by its first query: what these tests check
     p.voxel_size = voxel;
     p.normal_k = k;
     p.normal_max_radius = 0.5;

@@ -38,7 +38,7 @@ IcpRegistration::IcpRegistration(const LocalizerParams& params)
 class IcpRegistration::Schedule {
    public:
     Schedule(const LocalizationParams& lp, double kernel_scale, const map::VoxelMap& voxels, bool voxel, bool wide,
-             bool hypothesis, bool may_settle)
+             bool hypothesis, bool may_settle, bool one_anneal = false)
         : lp_(lp),
           kernel_scale_(kernel_scale),
           voxels_(voxels),
@@ -46,7 +46,9 @@ class IcpRegistration::Schedule {
           wide_(wide),
           level_(voxel && wide ? (hypothesis ? std::min(1, voxels.levels() - 1) : voxels.levels() - 1) : 0),
           radius_(!voxel && wide ? lp.max_corr_dist_init : lp.max_corr_dist),
-          may_settle_(may_settle) {}
+          radius0_(radius_),
+          may_settle_(may_settle),
+          one_anneal_(one_anneal && !voxel) {}
 
     bool voxel() const { return voxel_; }
     int level() const { return level_; }
@@ -61,6 +63,7 @@ class IcpRegistration::Schedule {
     double kernelFloor() const { return kernel_scale_ * scale(); }
     double kernel() const {
         if (settled_) return kernelFloor();
+        if (one_anneal_) return std::max(kernelFloor(), 0.5 * radius0_ * std::pow(0.5, in_stage_));
         return std::max(kernelFloor(), voxel_ ? (wide_ ? 0.5 : 0.25) * voxels_.levelSize(level_) * std::pow(0.5, in_stage_)
                                               : 0.5 * radius_ * std::pow(0.5, in_stage_));
     }
@@ -100,7 +103,12 @@ class IcpRegistration::Schedule {
         in_stage_ = -1;
         return false;
     }
-    void next() { ++in_stage_; }
+    void next() {
+        ++in_stage_;
+        // One annealing: the radius follows the kernel down (six kernel scales) instead of
+        // annealing the kernel again at each radius.
+        if (one_anneal_) radius_ = std::max(lp_.max_corr_dist, std::min(radius_, 6.0 * kernel()));
+    }
 
    private:
     const LocalizationParams& lp_;
@@ -109,8 +117,10 @@ class IcpRegistration::Schedule {
     bool voxel_, wide_;
     int level_;
     double radius_;
+    double radius0_;  ///< the first round's radius
     int in_stage_ = 0;
     bool may_settle_;       ///< a tracked frame's solve whose prediction the last frame confirmed
+    bool one_anneal_;       ///< nearest: one annealing of kernel and radius together (LastScan)
     bool settled_ = false;  ///< the kernel at its floor from the next round on
 };
 
@@ -204,7 +214,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     const map::PriorMap& map = *p.map;
     const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
     Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis,
-                   p.may_settle);
+                   p.may_settle, p.purpose == SolvePurpose::LastScan);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     std::vector<uint32_t> feature_of;

@@ -21,6 +21,7 @@ bool Tracker::measureMotion(Frame& f) {
     // voxel already, so the map keeps them all; normals face the LiDAR that saw them.
     map::MapParams mp;
     mp.voxel_size = 0;
+    mp.geometry_at_load = false;  // one frame's use: only the points its features meet
     PointCloud cloud;  // the points are used once: the frame keeps its own scan when it ends
     cloud.points = std::move(last_scan_points_);
     last_scan_points_.clear();
