@@ -42,6 +42,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(motion_from_last_scan, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(last_scan_yaw_step, double, c, s);
     MRPT_LOAD_CONFIG_VAR(sweep_velocity, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
@@ -73,6 +74,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(motion_from_last_scan, "no IMU: unknown velocity measured against the last scan first");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(last_scan_yaw_step, "[deg] that motion's first guess: turns about the vertical in these steps (0: none)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(sweep_velocity, "unknown velocity, timed points: estimate the sweep's velocity for deskew");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences (0: none used)");
@@ -101,6 +103,8 @@ void LocalizationParams::validate() const {
     if (association != "nearest" && association != "voxel" && association != "cells")
         throw ConfigError("[localization] association must be nearest, cells or voxel, not '" + association + "'");
     positive(assoc_cell, "assoc_cell");
+    if (!(last_scan_yaw_step >= 0 && last_scan_yaw_step <= 180))
+        throw ConfigError("[localization] last_scan_yaw_step must be in [0, 180] deg");
     if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))
         throw ConfigError("[localization] voxel_nearest_above must be >= 0");
     if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");

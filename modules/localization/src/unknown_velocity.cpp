@@ -1,12 +1,16 @@
 // A frame whose velocity is unknown (doc/localizer.md, "Unknown velocity"): without IMU, its
 // motion measured against the last scan; with timed points, its sweep's velocity estimated with
 // its pose.
+#include <superloc/core/se3.h>
 #include <superloc/core/timing.h>
 #include <superloc/features/deskew.h>
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/localization/tracker.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <utility>
 
@@ -14,6 +18,38 @@ namespace superloc::localization {
 
 namespace {
 using Clock = SteadyClock;
+
+/// The turn about the map's vertical through the sensor (at T, the pose of no motion) under which
+/// most of `pts` (body frame, every stride-th) have a point of `scan_map` within 1 m, among the
+/// turns in steps of `step_deg`; no turn unless one scores a fifth more than none. A 2 s gap on
+/// foot turns the scan by up to 100 deg (campus-ouster's odd scans), beyond ICP's basin from no
+/// motion; the translation of such a gap (a metre or two) is left to the registration.
+double firstGuessYaw(const std::vector<Vec3d>& pts, const SE3d& T, const map::PriorMap& scan_map, double step_deg) {
+    if (!(step_deg > 0) || pts.empty() || scan_map.size() == 0) return 0.0;
+    constexpr float kNear = 1.0f;  // [m]
+    const size_t stride = std::max<size_t>(1, pts.size() / 256);
+    const auto score = [&](double yaw) {
+        const Mat3d R = Eigen::AngleAxisd(yaw, Vec3d::UnitZ()).toRotationMatrix() * T.linear();
+        int n = 0;
+        for (size_t i = 0; i < pts.size(); i += stride) {
+            const Vec3d x = R * pts[i] + T.translation();
+            n += scan_map.nearest(x.cast<float>()).second <= kNear * kNear;
+        }
+        return n;
+    };
+    const int none = score(0.0);
+    int best = none;
+    double best_yaw = 0.0;
+    const int steps = static_cast<int>(std::floor(180.0 / step_deg + 1e-9));
+    for (int k = 1; k <= steps; ++k)
+        for (const int sign : {1, -1}) {
+            if (sign < 0 && k * step_deg >= 180.0 - 1e-9) continue;  // +180 and -180 are one turn
+            const double yaw = sign * k * step_deg * kDeg;
+            const int s = score(yaw);
+            if (s > best) best = s, best_yaw = yaw;
+        }
+    return 5 * best > 6 * none ? best_yaw : 0.0;
+}
 }  // namespace
 
 bool Tracker::measureMotion(Frame& f) {
@@ -28,7 +64,14 @@ bool Tracker::measureMotion(Frame& f) {
     const map::PriorMap scan_map(cloud, mp, last_scan_origin_);
     FrameSolution sol;
     sol.state = f.start;
-    sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan
+    sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan...
+    // ... or a turn about the vertical, where one fits the last scan clearly better.
+    const double yaw = firstGuessYaw(f.features.pts_body, f.prev.T_map_imu(), scan_map, params_.loc.last_scan_yaw_step);
+    if (yaw != 0.0) {
+        SE3d T = f.prev.T_map_imu();
+        T.linear() = Eigen::AngleAxisd(yaw, Vec3d::UnitZ()).toRotationMatrix() * T.linear();
+        sol.state.setPose(T);
+    }
     RegistrationProblem p = problem(f, SolvePurpose::LastScan, true, nullptr);
     p.map = &scan_map;
     icp_.solve(p, sol);

@@ -42,6 +42,10 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// that frame's scan (wide, from no motion): the motion it measures is the prediction, and
     /// the frame is then solved in the map as a tracked one (doc/localizer.md, "Unknown velocity")
     bool motion_from_last_scan = true;
+    /// [deg] that motion's first guess: the turn about the vertical, in steps of this, under
+    /// which most of the frame's features find the last scan within 1 m (no turn unless one
+    /// scores a fifth more); 0: from no motion only (doc/localizer.md, "Unknown velocity")
+    double last_scan_yaw_step = 30;
     /// a frame of unknown velocity whose points carry times (deskew on) estimates the sweep's
     /// translation velocity with its pose, instead of deskewing by rotation alone
     bool sweep_velocity = true;
