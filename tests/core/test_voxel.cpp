@@ -2,6 +2,7 @@
 #include <superloc/core/voxel.h>
 
 #include <random>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -64,4 +65,25 @@ TEST(Voxel, VoxelSetMatchesAnOrderedSet) {
     }
     EXPECT_EQ(set.size(), ref.size());
     EXPECT_GT(set.memoryBytes(), 0u);
+}
+
+// VoxelIndex keeps the first value of every key, as std::map::try_emplace does, for packed and
+// far (beyond +-2^20) indices alike.
+TEST(Voxel, VoxelIndexMatchesAnOrderedMap) {
+    std::mt19937_64 rng(4);
+    std::uniform_int_distribution<int64_t> small(-60, 60), edge(-(int64_t{1} << 20) - 2, -(int64_t{1} << 20) + 2),
+        huge(-(int64_t{1} << 61), int64_t{1} << 61);
+    std::map<std::tuple<int64_t, int64_t, int64_t>, uint32_t> ref;
+    VoxelIndex index;
+    for (uint32_t i = 0; i < 200000; ++i) {
+        const int kind = i % 97 == 0 ? 2 : i % 89 == 0 ? 1 : 0;
+        const int64_t a = kind == 2 ? huge(rng) : kind == 1 ? edge(rng) : small(rng);
+        const VoxelKey k{a, small(rng), small(rng)};
+        const auto [it, fresh] = ref.try_emplace({k.x, k.y, k.z}, i);
+        const auto [value, inserted] = index.tryEmplace(k, i);
+        ASSERT_EQ(inserted, fresh) << k.x << " " << k.y << " " << k.z;
+        ASSERT_EQ(value, it->second);
+    }
+    EXPECT_EQ(index.size(), ref.size());
+    EXPECT_GT(index.memoryBytes(), 0u);
 }

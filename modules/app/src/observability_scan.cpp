@@ -16,14 +16,14 @@ void ObservabilityScan::add(const std::vector<Vec3f>& points, const std::vector<
     const size_t n = std::min(points.size(), labels.size());
     for (size_t i = 0; i < n; ++i) {
         if (!points[i].allFinite()) continue;
-        const auto [it, inserted] =
-            index_.try_emplace(voxelKey(points[i], voxel_), static_cast<uint32_t>(points_.size()));
+        const auto [slot, inserted] =
+            index_.tryEmplace(voxelKey(points[i], voxel_), static_cast<uint32_t>(points_.size()));
         if (inserted) {
             points_.push_back(points[i]);
             votes_.push_back({0, 0, 0, 0});
         }
         const int l = labels[i];
-        votes_[it->second][l >= 0 && l < 3 ? l : 3]++;
+        votes_[slot][l >= 0 && l < 3 ? l : 3]++;
     }
 }
 

@@ -57,6 +57,56 @@ bool VoxelSet::insert(const VoxelKey& k) {
 
 size_t VoxelSet::memoryBytes() const { return slots_.capacity() * sizeof(Slot) + blocks_.capacity() * sizeof(Block); }
 
+namespace {
+constexpr int64_t kPackRange = int64_t(1) << 20;
+inline uint64_t mixPacked(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return k;
+}
+}  // namespace
+
+std::pair<uint32_t, bool> VoxelIndex::tryEmplace(const VoxelKey& k, uint32_t value) {
+    const auto fits = [](int64_t v) { return v >= -kPackRange && v < kPackRange; };
+    if (!(fits(k.x) && fits(k.y) && fits(k.z))) {
+        const auto [it, inserted] = far_.try_emplace(k, value);
+        return {it->second, inserted};
+    }
+    const uint64_t key = (uint64_t(k.x + kPackRange) << 42) | (uint64_t(k.y + kPackRange) << 21) |
+                         uint64_t(k.z + kPackRange);
+    if (2 * (count_ + 1) > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t h = mixPacked(key) & mask;; h = (h + 1) & mask) {
+        Slot& s = slots_[h];
+        if (s.key == key) return {s.value, false};
+        if (s.key == ~0ull) {
+            s.key = key;
+            s.value = value;
+            ++count_;
+            return {value, true};
+        }
+    }
+}
+
+void VoxelIndex::grow() {
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    const size_t mask = slots_.size() - 1;
+    for (const Slot& s : old) {
+        if (s.key == ~0ull) continue;
+        for (size_t h = mixPacked(s.key) & mask;; h = (h + 1) & mask)
+            if (slots_[h].key == ~0ull) {
+                slots_[h] = s;
+                break;
+            }
+    }
+}
+
+size_t VoxelIndex::memoryBytes() const {
+    return slots_.capacity() * sizeof(Slot) + far_.size() * (sizeof(VoxelKey) + 2 * sizeof(void*) + 8);
+}
+
 VoxelKey voxelKey(const Vec3f& p, float voxel) {
     // The division stays in float (the keys of every voxel size that fitted 32 bits are
     // unchanged); only the range check is new.

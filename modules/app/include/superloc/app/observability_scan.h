@@ -10,7 +10,6 @@
 #include <array>
 #include <cstdint>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace superloc::app {
@@ -31,7 +30,7 @@ class ObservabilityScan {
 
  private:
     float voxel_;
-    std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> index_;
+    VoxelIndex index_;
     std::vector<Vec3f> points_;
     std::vector<std::array<uint32_t, 4>> votes_;  ///< x, y, z, none
 };

@@ -4,6 +4,8 @@
 #include <superloc/core/types.h>
 
 #include <cstdint>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace superloc {
@@ -54,6 +56,29 @@ class VoxelSet {
     VoxelKey last_{0, 0, 0};
     uint32_t last_block_ = ~0u;
     size_t count_ = 0;
+};
+
+/// A map from voxels (VoxelKey) to 32-bit values, flat: the three indices packed into 63 bits
+/// when each is within +-2^20 (a 0.05 m voxel: +-52 km), in one open-addressing table of
+/// 16-byte slots; keys beyond that in a node-based map beside it. Half the memory of a
+/// std::unordered_map per entry and one cache miss per probe (the observability scan: 1.35 M
+/// voxels in a 30-minute run).
+class VoxelIndex {
+   public:
+    /// The value of k, inserting `value` first when k is new; .second: whether it was new.
+    std::pair<uint32_t, bool> tryEmplace(const VoxelKey& k, uint32_t value);
+    size_t size() const { return count_ + far_.size(); }
+    size_t memoryBytes() const;
+
+   private:
+    struct Slot {
+        uint64_t key = ~0ull;
+        uint32_t value = 0;
+    };
+    void grow();
+    std::vector<Slot> slots_ = std::vector<Slot>(64);
+    size_t count_ = 0;
+    std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> far_;
 };
 
 /// floor(p / voxel) per axis. Throws std::invalid_argument naming the voxel size and the point
