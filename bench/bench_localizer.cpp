@@ -247,9 +247,7 @@ void BM_RecoveryFrame(benchmark::State& state) {
     state.counters["median_ms"] = eval::median(total);
 }
 
-/// The association step alone: 2000 features of scan 5 at its GT pose, repeated (warm caches);
-/// Arg(0) the kd-tree, Arg(1) its answers memoized on 0.2 m cells (association = cells: after
-/// the first iteration every query is a hit).
+/// The association step alone: 2000 features of scan 5 at its GT pose.
 void BM_Association(benchmark::State& state) {
     const SplitData* d = kitti();
     if (!d) {
@@ -267,7 +265,6 @@ void BM_Association(benchmark::State& state) {
     AssociationParams ap;
     ap.plane_max_thickness = 0.1;
     ap.point_weight = 0.1;
-    ap.cell = state.range(0) > 0 ? 0.2 : 0.0;  // Arg(1): the answers memoized on 0.2 m cells
     std::vector<Correspondence> corr;
     AssociationStats st;
     for (auto _ : state) {
@@ -331,7 +328,7 @@ BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
 BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusHybrid)->Unit(benchmark::kMillisecond)->Iterations(52);
-BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Association)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 BENCHMARK_MAIN();

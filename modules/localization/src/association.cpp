@@ -1,6 +1,5 @@
 #include <superloc/features/classify.h>
 #include <superloc/localization/association.h>
-#include <superloc/map/nearest_cells.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -19,8 +18,8 @@ void keep(const Correspondence& c, uint32_t i, std::vector<Correspondence>& out,
 /// and that point's neighbourhood geometry; false when there is none.
 bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::PriorMap& map,
                            const AssociationParams& p, map::Neighbors& nb, Correspondence& c,
-                           AssociationStats& stats, map::NearestCells* cells = nullptr) {
-    const auto [j, d2] = cells ? cells->nearest(map, x.cast<float>()) : map.nearest(x.cast<float>());
+                           AssociationStats& stats) {
+    const auto [j, d2] = map.nearest(x.cast<float>());
     if (d2 > static_cast<float>(p.max_dist * p.max_dist)) {
         ++stats.too_far;
         return false;
@@ -71,11 +70,8 @@ void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body
     const Vec3d t = T_map_body.translation();
     map::Neighbors nb;
     Correspondence c;
-    // The memoized answers (nearest_cells.h) where a cell edge is set; locked for the batch.
-    auto cells = p.cell > 0 ? map.nearestCells(p.cell) : std::pair<std::unique_lock<std::mutex>, map::NearestCells*>{};
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
-        if (nearestCorrespondence(pts_body[i], R * pts_body[i] + t, map, p, nb, c, stats, cells.second))
-            keep(c, i, out, feature_of);
+        if (nearestCorrespondence(pts_body[i], R * pts_body[i] + t, map, p, nb, c, stats)) keep(c, i, out, feature_of);
     }
 }
 
@@ -145,7 +141,6 @@ AssociationParams trackingAssociation(const LocalizationParams& lp, const featur
     AssociationParams a;
     a.max_dist = lp.max_corr_dist;
     a.voxel = lp.association == "voxel";
-    a.cell = lp.association == "cells" ? lp.assoc_cell : 0.0;
     a.nearest_above_thickness = a.voxel ? lp.voxel_nearest_above : 0.0;
     a.plane_max_thickness = fp.plane_max_thickness;
     a.line_min_linearity = fp.line_min_linearity;

@@ -37,7 +37,6 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(max_corr_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist_init, double, c, s);
     MRPT_LOAD_CONFIG_VAR(voxel_nearest_above, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(assoc_cell, double, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
@@ -68,7 +67,6 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map point (nearest) / voxel plane (voxel, finest level)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] nearest: the same on a wide frame's first rounds");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(assoc_cell, "[m] cells: edge of the cells memoizing nearest's answers");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_nearest_above, "[m] voxel: features in thicker finest voxels (or none) use the kd-tree (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "most association + solve rounds per tracked frame");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
@@ -100,9 +98,8 @@ void LocalizationParams::validate() const {
     };
     positive(max_corr_dist, "max_corr_dist");
     positive(max_corr_dist_init, "max_corr_dist_init");
-    if (association != "nearest" && association != "voxel" && association != "cells")
-        throw ConfigError("[localization] association must be nearest, cells or voxel, not '" + association + "'");
-    positive(assoc_cell, "assoc_cell");
+    if (association != "nearest" && association != "voxel")
+        throw ConfigError("[localization] association must be nearest or voxel, not '" + association + "'");
     if (!(last_scan_yaw_step >= 0 && last_scan_yaw_step <= 180))
         throw ConfigError("[localization] last_scan_yaw_step must be in [0, 180] deg");
     if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))

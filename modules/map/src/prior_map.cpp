@@ -4,7 +4,6 @@
 #include <superloc/core/voxel.h>
 #include <superloc/io/point_cloud_io.h>
 #include <superloc/map/prior_map.h>
-#include <superloc/map/nearest_cells.h>
 
 #include <algorithm>
 #include <atomic>
@@ -31,9 +30,6 @@ struct PriorMap::Impl {
     std::vector<PointGeometry> geometry;
     std::unique_ptr<std::atomic<uint8_t>[]> state;
     std::vector<Vec3f> given_normals;
-    // The nearest-answer memos, one per cell edge asked for (nearestCells()).
-    std::mutex cells_mutex;
-    std::vector<std::unique_ptr<NearestCells>> cells;
     std::optional<Vec3f> viewpoint;
 
     void buildTree();
@@ -163,10 +159,6 @@ size_t PriorMap::memoryBytes() const {
                impl_->geometry.capacity() * sizeof(PointGeometry) +
                (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0);
     if (impl_->tree) b += impl_->tree->usedMemory(*impl_->tree);
-    {
-        std::lock_guard<std::mutex> lock(impl_->cells_mutex);
-        for (const auto& c : impl_->cells) b += c->memoryBytes();
-    }
     return b;
 }
 
@@ -179,14 +171,6 @@ void PriorMap::knn(const Vec3f& q, size_t k, Neighbors& out) const {
     const size_t found = impl_->tree->knnSearch(q.data(), k, out.indices.data(), out.sq_dists.data());
     out.indices.resize(found);
     out.sq_dists.resize(found);
-}
-
-std::pair<std::unique_lock<std::mutex>, NearestCells*> PriorMap::nearestCells(double edge) const {
-    std::unique_lock<std::mutex> lock(impl_->cells_mutex);
-    for (auto& c : impl_->cells)
-        if (c->edge() == edge) return {std::move(lock), c.get()};
-    impl_->cells.push_back(std::make_unique<NearestCells>(edge));
-    return {std::move(lock), impl_->cells.back().get()};
 }
 
 std::pair<uint32_t, float> PriorMap::nearest(const Vec3f& q) const {

@@ -33,8 +33,6 @@ struct AssociationParams {
     /// weight of a point-to-point (centroid) correspondence; 0: such a correspondence is counted
     /// (AssociationStats::point), not kept ([localization] point_weight)
     double point_weight = 0.0;
-    /// [m] nearest: the answers memoized on cells of this edge (map::NearestCells); 0: the kd-tree
-    double cell = 0;
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
 };
 

@@ -31,7 +31,6 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// corner: a plane that smears the surface), or that has no finest-level voxel, is
     /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
     double voxel_nearest_above = 0.0;
-    double assoc_cell = 0.2;        ///< [m] association = cells: edge of the cells memoizing nearest's answers
     /// most association + solve rounds of a tracked frame (it stops earlier when settled)
     int rounds = 4;
     int rounds_init = 40;              ///< the same for a frame whose velocity is unknown

@@ -8,14 +8,11 @@
 #include <superloc/map/voxel_map.h>
 
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace superloc::map {
-
-class NearestCells;
 
 /// Section [map] of the INI.
 struct MapParams : public mrpt::config::CLoadableOptions {
@@ -99,11 +96,6 @@ class PriorMap {
     void knn(const Vec3f& q, size_t k, Neighbors& out) const;
     /// Nearest map point index and squared distance; thread-safe.
     std::pair<uint32_t, float> nearest(const Vec3f& q) const;
-
-    /// The map's memo of nearest answers on cells of `edge` metres (nearest_cells.h), made by the
-    /// first call for that edge; the caller queries it while holding the returned lock (one lock
-    /// per batch of queries: thread-safe).
-    std::pair<std::unique_lock<std::mutex>, NearestCells*> nearestCells(double edge) const;
 
     /// Seconds spent voxelizing and building the voxel map (the lazy kd-tree not included).
     double prepareSeconds() const;
