@@ -7,47 +7,17 @@
 
 namespace superloc {
 
-uint32_t VoxelSet::findBlock(const VoxelKey& b) {
-    if (last_block_ != ~0u && b == last_) return last_block_;
-    if (2 * (blocks_.size() + 1) > slots_.size()) grow();
-    const size_t mask = slots_.size() - 1;
-    for (size_t h = VoxelKeyHash{}(b) & mask;; h = (h + 1) & mask) {
-        Slot& s = slots_[h];
-        if (s.block == ~0u) {
-            s.key = b;
-            s.block = static_cast<uint32_t>(blocks_.size());
-            blocks_.emplace_back();
-            break;
-        }
-        if (s.key == b) {
-            last_block_ = s.block;
-            last_ = b;
-            return s.block;
-        }
-    }
-    last_ = b;
-    return last_block_ = static_cast<uint32_t>(blocks_.size() - 1);
-}
-
-void VoxelSet::grow() {
-    std::vector<Slot> old(slots_.size() * 2);
-    old.swap(slots_);
-    const size_t mask = slots_.size() - 1;
-    for (const Slot& s : old) {
-        if (s.block == ~0u) continue;
-        for (size_t h = VoxelKeyHash{}(s.key) & mask;; h = (h + 1) & mask)
-            if (slots_[h].block == ~0u) {
-                slots_[h] = s;
-                break;
-            }
-    }
-}
-
 bool VoxelSet::insert(const VoxelKey& k) {
     // Arithmetic shifts: floor division by 16 for negative indices too.
-    const uint32_t b = findBlock({k.x >> 4, k.y >> 4, k.z >> 4});
+    const VoxelKey b{k.x >> 4, k.y >> 4, k.z >> 4};
+    if (last_block_ == ~0u || !(b == last_)) {
+        const auto [block, fresh] = blocks_of_.tryEmplace(b, static_cast<uint32_t>(blocks_.size()));
+        if (fresh) blocks_.emplace_back();
+        last_ = b;
+        last_block_ = block;
+    }
     const unsigned bit = static_cast<unsigned>(((k.x & 15) << 8) | ((k.y & 15) << 4) | (k.z & 15));
-    uint64_t& word = blocks_[b].bits[bit >> 6];
+    uint64_t& word = blocks_[last_block_].bits[bit >> 6];
     const uint64_t m = uint64_t(1) << (bit & 63);
     if (word & m) return false;
     word |= m;
@@ -55,16 +25,10 @@ bool VoxelSet::insert(const VoxelKey& k) {
     return true;
 }
 
-size_t VoxelSet::memoryBytes() const { return slots_.capacity() * sizeof(Slot) + blocks_.capacity() * sizeof(Block); }
+size_t VoxelSet::memoryBytes() const { return blocks_of_.memoryBytes() + blocks_.capacity() * sizeof(Block); }
 
 namespace {
 constexpr int64_t kPackRange = int64_t(1) << 20;
-inline uint64_t mixPacked(uint64_t k) {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return k;
-}
 }  // namespace
 
 std::pair<uint32_t, bool> VoxelIndex::tryEmplace(const VoxelKey& k, uint32_t value) {
@@ -73,11 +37,10 @@ std::pair<uint32_t, bool> VoxelIndex::tryEmplace(const VoxelKey& k, uint32_t val
         const auto [it, inserted] = far_.try_emplace(k, value);
         return {it->second, inserted};
     }
-    const uint64_t key = (uint64_t(k.x + kPackRange) << 42) | (uint64_t(k.y + kPackRange) << 21) |
-                         uint64_t(k.z + kPackRange);
+    const uint64_t key = packVoxelIndices(k.x, k.y, k.z);
     if (2 * (count_ + 1) > slots_.size()) grow();
     const size_t mask = slots_.size() - 1;
-    for (size_t h = mixPacked(key) & mask;; h = (h + 1) & mask) {
+    for (size_t h = mixVoxelKey(key) & mask;; h = (h + 1) & mask) {
         Slot& s = slots_[h];
         if (s.key == key) return {s.value, false};
         if (s.key == ~0ull) {
@@ -95,7 +58,7 @@ void VoxelIndex::grow() {
     const size_t mask = slots_.size() - 1;
     for (const Slot& s : old) {
         if (s.key == ~0ull) continue;
-        for (size_t h = mixPacked(s.key) & mask;; h = (h + 1) & mask)
+        for (size_t h = mixVoxelKey(s.key) & mask;; h = (h + 1) & mask)
             if (slots_[h].key == ~0ull) {
                 slots_[h] = s;
                 break;

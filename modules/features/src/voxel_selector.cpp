@@ -1,4 +1,5 @@
 #include <superloc/core/floor_int.h>
+#include <superloc/core/voxel.h>
 #include <superloc/features/voxel_selector.h>
 
 #include <algorithm>
@@ -9,14 +10,7 @@ namespace {
 // 21 bits per axis (±1M voxels): plenty for any LiDAR range at voxel >= 1 mm.
 inline uint64_t packKey(const Vec3f& p, float inv) {
     // Finite points within the range filter's bounds: floorToInt is exact there.
-    const auto q = [inv](float v) { return static_cast<uint64_t>(floorToInt(v * inv) + (1 << 20)) & 0x1FFFFFu; };
-    return (q(p.x()) << 42) | (q(p.y()) << 21) | q(p.z());
-}
-inline uint64_t mix(uint64_t k) {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return k;
+    return packVoxelIndices(floorToInt(p.x() * inv), floorToInt(p.y() * inv), floorToInt(p.z() * inv));
 }
 }  // namespace
 
@@ -30,7 +24,7 @@ void VoxelSelector::grow() {
     const uint64_t mask = slots_.size() - 1;
     for (uint64_t key : old) {
         if (key == kEmpty) continue;
-        uint64_t h = mix(key) & mask;
+        uint64_t h = mixVoxelKey(key) & mask;
         while (slots_[h] != kEmpty) h = (h + 1) & mask;
         slots_[h] = key;
     }
@@ -51,7 +45,7 @@ void VoxelSelector::firstPerVoxel(const std::vector<uint32_t>& idx, std::vector<
         const uint64_t key = keys_[j];
         if (key == last) continue;
         last = key;
-        uint64_t h = mix(key) & mask;
+        uint64_t h = mixVoxelKey(key) & mask;
         while (slots_[h] != kEmpty && slots_[h] != key) h = (h + 1) & mask;
         if (slots_[h] == kEmpty) {
             slots_[h] = key;

@@ -77,7 +77,7 @@ VoxelMap::VoxelMap(const std::vector<Vec3f>& points, const Params& params) : par
 
 void VoxelMap::buildLevel(const std::vector<Vec3f>& points, Level& L) const {
     AccumTable acc;
-    acc.hash = [](uint64_t k) { return mix(k); };
+    acc.hash = [](uint64_t k) { return mixVoxelKey(k); };
     const double inv = 1.0 / L.size;
     const double ov = params_.overlap;
     for (const Vec3f& pf : points) {
@@ -94,8 +94,8 @@ void VoxelMap::buildLevel(const std::vector<Vec3f>& points, Level& L) const {
         for (int64_t x = lo[0]; x <= hi[0]; ++x)
             for (int64_t y = lo[1]; y <= hi[1]; ++y)
                 for (int64_t z = lo[2]; z <= hi[2]; ++z) {
-                    const uint64_t key = packKey(x, y, z);
-                    Accum& a = acc.at(key, mix(key));
+                    const uint64_t key = packVoxelIndices(x, y, z);
+                    Accum& a = acc.at(key, mixVoxelKey(key));
                     // Relative to the voxel corner, in metres.
                     const double d[3] = {(p[0] - double(x)) * L.size, (p[1] - double(y)) * L.size,
                                          (p[2] - double(z)) * L.size};
@@ -136,7 +136,7 @@ void VoxelMap::buildLevel(const std::vector<Vec3f>& points, Level& L) const {
             st.linearity = static_cast<float>((ev(2) - ev(1)) / ev(2));
             st.thickness = static_cast<float>(std::sqrt(ev(0)));
         }
-        for (uint64_t h = mix(a.key) & L.mask;; h = (h + 1) & L.mask)
+        for (uint64_t h = mixVoxelKey(a.key) & L.mask;; h = (h + 1) & L.mask)
             if (L.table[h].key == kEmpty) {
                 L.table[h].key = a.key;
                 L.table[h].stats = st;

@@ -7,16 +7,6 @@
 #include <random>
 
 namespace superloc::sim {
-namespace {
-
-uint64_t packKey(int64_t x, int64_t y, int64_t z) {
-    const uint64_t m = (1u << 21) - 1;
-    return ((static_cast<uint64_t>(x + (1 << 20)) & m) << 42) |
-           ((static_cast<uint64_t>(y + (1 << 20)) & m) << 21) |
-           (static_cast<uint64_t>(z + (1 << 20)) & m);
-}
-
-}  // namespace
 
 NearMask::NearMask(const std::vector<Vec3d>& centres, double radius) : cell_(radius / 8) {
     const int r = 9;  // cells covering radius + one cell
@@ -24,7 +14,7 @@ NearMask::NearMask(const std::vector<Vec3d>& centres, double radius) : cell_(rad
     std::vector<uint64_t> centre_keys;
     for (const auto& c : centres) {
         const Eigen::Vector3i k((c / cell_).array().floor().cast<int>());
-        const uint64_t key = packKey(k.x(), k.y(), k.z());
+        const uint64_t key = packVoxelIndices(k.x(), k.y(), k.z());
         if (std::find(centre_keys.end() - std::min<size_t>(centre_keys.size(), 64),
                       centre_keys.end(), key) != centre_keys.end())
             continue;
@@ -34,7 +24,7 @@ NearMask::NearMask(const std::vector<Vec3d>& centres, double radius) : cell_(rad
                 for (int dx = -r; dx <= r; ++dx)
                     if ((dx * dx + dy * dy + dz * dz) * cell_ * cell_ <=
                         (radius + 1.8 * cell_) * (radius + 1.8 * cell_))
-                        keys_.push_back(packKey(k.x() + dx, k.y() + dy, k.z() + dz));
+                        keys_.push_back(packVoxelIndices(k.x() + dx, k.y() + dy, k.z() + dz));
         if (keys_.size() > (1u << 24)) {  // compact now and then
             std::sort(keys_.begin(), keys_.end());
             keys_.erase(std::unique(keys_.begin(), keys_.end()), keys_.end());
@@ -46,7 +36,7 @@ NearMask::NearMask(const std::vector<Vec3d>& centres, double radius) : cell_(rad
 
 bool NearMask::contains(const Vec3f& p) const {
     const Eigen::Vector3i k((p.cast<double>() / cell_).array().floor().cast<int>());
-    return std::binary_search(keys_.begin(), keys_.end(), packKey(k.x(), k.y(), k.z()));
+    return std::binary_search(keys_.begin(), keys_.end(), packVoxelIndices(k.x(), k.y(), k.z()));
 }
 
 PointCloud sampleSurface(const Mesh& mesh, double spacing, uint64_t seed,

@@ -16,6 +16,21 @@ struct VoxelKey {
     int64_t x, y, z;
     bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
+/// A voxel's three indices packed in 63 bits, 21 each, offset by 2^20: exact for indices in
+/// [-2^20, 2^20), wrapped beyond (callers keep their indices in range). Never all ones, so ~0 can
+/// mark an empty slot.
+inline uint64_t packVoxelIndices(int64_t x, int64_t y, int64_t z) {
+    const auto q = [](int64_t v) { return static_cast<uint64_t>(v + (int64_t(1) << 20)) & 0x1FFFFFu; };
+    return (q(x) << 42) | (q(y) << 21) | q(z);
+}
+/// Spreads a packed key over the slots of an open-addressing table (MurmurHash3's 64-bit
+/// finalizer, first half).
+inline uint64_t mixVoxelKey(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return k;
+}
 struct VoxelKeyHash {
     /// The three indices mixed through a 64-bit multiply-xorshift: the classic XOR of the indices
     /// times three primes sends the voxels of a corridor or a floor (small y, z ranges) into
@@ -29,35 +44,6 @@ struct VoxelKeyHash {
         return static_cast<size_t>(h ^ (h >> 33));
     }
 };
-/// A set of voxels (VoxelKey), for marking the voxels a growing cloud already occupies: blocks of
-/// 16 x 16 x 16 voxels, each a 512-byte bitset, found through a small open-addressing table with
-/// the last block remembered. A cloud's consecutive points share blocks, so an insert is one bit
-/// test in memory the last one touched, where a node-based std::unordered_set costs two or three
-/// cache misses once it holds millions (the localized map of a long run).
-class VoxelSet {
-   public:
-    /// Adds k; true when it was not in the set yet.
-    bool insert(const VoxelKey& k);
-    size_t size() const { return count_; }
-    size_t memoryBytes() const;
-
-   private:
-    struct Block {
-        uint64_t bits[64] = {};
-    };
-    struct Slot {
-        VoxelKey key{0, 0, 0};
-        uint32_t block = ~0u;  ///< index into blocks_; ~0u: empty slot
-    };
-    uint32_t findBlock(const VoxelKey& b);
-    void grow();
-    std::vector<Slot> slots_ = std::vector<Slot>(64);
-    std::vector<Block> blocks_;
-    VoxelKey last_{0, 0, 0};
-    uint32_t last_block_ = ~0u;
-    size_t count_ = 0;
-};
-
 /// A map from voxels (VoxelKey) to 32-bit values, flat: the three indices packed into 63 bits
 /// when each is within +-2^20 (a 0.05 m voxel: +-52 km), in one open-addressing table of
 /// 16-byte slots; keys beyond that in a node-based map beside it. Half the memory of a
@@ -79,6 +65,29 @@ class VoxelIndex {
     std::vector<Slot> slots_ = std::vector<Slot>(64);
     size_t count_ = 0;
     std::unordered_map<VoxelKey, uint32_t, VoxelKeyHash> far_;
+};
+
+/// A set of voxels (VoxelKey), for marking the voxels a growing cloud already occupies: blocks of
+/// 16 x 16 x 16 voxels, each a 512-byte bitset, found through a VoxelIndex with the last block
+/// remembered. A cloud's consecutive points share blocks, so an insert is one bit test in memory
+/// the last one touched, where a node-based std::unordered_set costs two or three cache misses
+/// once it holds millions (the localized map of a long run).
+class VoxelSet {
+   public:
+    /// Adds k; true when it was not in the set yet.
+    bool insert(const VoxelKey& k);
+    size_t size() const { return count_; }
+    size_t memoryBytes() const;
+
+   private:
+    struct Block {
+        uint64_t bits[64] = {};
+    };
+    VoxelIndex blocks_of_;       ///< block key -> index into blocks_
+    std::vector<Block> blocks_;
+    VoxelKey last_{0, 0, 0};
+    uint32_t last_block_ = ~0u;  ///< ~0u: none yet
+    size_t count_ = 0;
 };
 
 /// floor(p / voxel) per axis. Throws std::invalid_argument naming the voxel size and the point

@@ -14,6 +14,7 @@
 
 #include <superloc/core/floor_int.h>
 #include <superloc/core/types.h>
+#include <superloc/core/voxel.h>
 
 #include <cmath>
 #include <cstdint>
@@ -73,8 +74,6 @@ class VoxelMap {
         uint64_t mask = 0;
         size_t count = 0;
     };
-    static uint64_t packKey(int64_t x, int64_t y, int64_t z);
-    static inline uint64_t mix(uint64_t k);
     void buildLevel(const std::vector<Vec3f>& points, Level& level) const;
 
     Params params_;
@@ -83,29 +82,17 @@ class VoxelMap {
 
 // ---------------------------------------------------------------------------------------------
 
-inline uint64_t VoxelMap::mix(uint64_t k) {
-    k ^= k >> 33;
-    k *= 0xff51afd7ed558ccdULL;
-    k ^= k >> 33;
-    return k;
-}
-
 inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
     const Level& L = levels_[static_cast<size_t>(level)];
     if (L.table.empty()) return nullptr;
     const Vec3f s = x * L.inv;
     if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return nullptr;
-    const uint64_t key = packKey(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
-    for (uint64_t h = mix(key) & L.mask;; h = (h + 1) & L.mask) {
+    const uint64_t key = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
+    for (uint64_t h = mixVoxelKey(key) & L.mask;; h = (h + 1) & L.mask) {
         const Slot& slot = L.table[h];
         if (slot.key == key) return &slot.stats;
         if (slot.key == kEmpty) return nullptr;
     }
-}
-
-inline uint64_t VoxelMap::packKey(int64_t x, int64_t y, int64_t z) {
-    const auto q = [](int64_t v) { return static_cast<uint64_t>(v + (1 << 20)) & 0x1FFFFFu; };
-    return (q(x) << 42) | (q(y) << 21) | q(z);
 }
 
 }  // namespace superloc::map
