@@ -55,3 +55,15 @@ TEST(MrptConversions, PoseAndCovarianceOrder) {
     EXPECT_EQ(m(5, 5), 4);
     EXPECT_LT((covFromMrpt(m) - c).norm(), 1e-15);
 }
+
+TEST(SE3, TurnedAboutVerticalKeepsTheTranslationAndTurnsTheHeading) {
+    const SE3d T = makePoseRPY(1.0, 2.0, 3.0, 0.1, -0.2, 0.3);
+    const SE3d U = turnedAboutVertical(T, M_PI / 2);
+    EXPECT_TRUE(U.translation().isApprox(T.translation()));
+    // The body x axis in the map turns by +90 deg about z: (a, b, c) -> (-b, a, c).
+    const Vec3d x0 = T.linear().col(0), x1 = U.linear().col(0);
+    EXPECT_NEAR(x1.x(), -x0.y(), 1e-12);
+    EXPECT_NEAR(x1.y(), x0.x(), 1e-12);
+    EXPECT_NEAR(x1.z(), x0.z(), 1e-12);
+    EXPECT_EQ(turnedAboutVertical(T, 0.0).matrix(), T.matrix());  // no turn: bit for bit
+}

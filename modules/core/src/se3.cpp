@@ -74,6 +74,12 @@ SE3d makePose(double x, double y, double z, double qx, double qy, double qz, dou
     return T;
 }
 
+SE3d turnedAboutVertical(const SE3d& T, double yaw) {
+    SE3d out = T;
+    out.linear() = Eigen::AngleAxisd(yaw, Vec3d::UnitZ()).toRotationMatrix() * T.linear();
+    return out;
+}
+
 SE3d makePoseRPY(double x, double y, double z, double roll, double pitch, double yaw) {
     SE3d T = SE3d::Identity();
     T.linear() = (Eigen::AngleAxisd(yaw, Vec3d::UnitZ()) *

@@ -54,9 +54,8 @@ std::optional<StartPose::Decision> StartPose::atFirstScan(double t, const map::P
 std::vector<SE3d> StartPose::seeds(const SE3d& T0, const RelocalizationParams& rp) {
     const double r = rp.start_xyz * 2 / 3, yaw = rp.start_deg * 2 / 3 * kDeg;
     const auto seed = [&](const Vec3d& dx, double dyaw) {
-        SE3d T = T0;
+        SE3d T = turnedAboutVertical(T0, dyaw);
         T.translation() += dx;
-        T.linear() = Eigen::AngleAxisd(dyaw, Vec3d::UnitZ()).toRotationMatrix() * T0.linear();
         return T;
     };
     std::vector<double> ring_yaws = {0.0};

@@ -7,8 +7,6 @@
 #include <superloc/fusion/scan_factor.h>
 #include <superloc/localization/tracker.h>
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -29,10 +27,10 @@ double firstGuessYaw(const std::vector<Vec3d>& pts, const SE3d& T, const map::Pr
     constexpr float kNear = 1.0f;  // [m]
     const size_t stride = std::max<size_t>(1, pts.size() / 256);
     const auto score = [&](double yaw) {
-        const Mat3d R = Eigen::AngleAxisd(yaw, Vec3d::UnitZ()).toRotationMatrix() * T.linear();
+        const SE3d Ty = turnedAboutVertical(T, yaw);
         int n = 0;
         for (size_t i = 0; i < pts.size(); i += stride) {
-            const Vec3d x = R * pts[i] + T.translation();
+            const Vec3d x = Ty * pts[i];
             n += scan_map.nearest(x.cast<float>()).second <= kNear * kNear;
         }
         return n;
@@ -64,14 +62,9 @@ bool Tracker::measureMotion(Frame& f) {
     const map::PriorMap scan_map(cloud, mp, last_scan_origin_);
     FrameSolution sol;
     sol.state = f.start;
-    sol.state.setPose(f.prev.T_map_imu());  // no motion since the last scan...
-    // ... or a turn about the vertical, where one fits the last scan clearly better.
+    // No motion since the last scan, or a turn about the vertical where one fits it clearly better.
     const double yaw = firstGuessYaw(f.features.pts_body, f.prev.T_map_imu(), scan_map, params_.loc.last_scan_yaw_step);
-    if (yaw != 0.0) {
-        SE3d T = f.prev.T_map_imu();
-        T.linear() = Eigen::AngleAxisd(yaw, Vec3d::UnitZ()).toRotationMatrix() * T.linear();
-        sol.state.setPose(T);
-    }
+    sol.state.setPose(turnedAboutVertical(f.prev.T_map_imu(), yaw));
     RegistrationProblem p = problem(f, SolvePurpose::LastScan, true, nullptr);
     p.map = &scan_map;
     icp_.solve(p, sol);

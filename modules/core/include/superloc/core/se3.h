@@ -29,6 +29,9 @@ SE3d fromVec6(const Vec6d& v);
 
 /// Pose from translation and (x, y, z, w) quaternion components; the quaternion is normalised.
 SE3d makePose(double x, double y, double z, double qx, double qy, double qz, double qw);
+/// T turned by `yaw` [rad] about the frame's vertical (z) axis through T's origin: the
+/// rotation becomes Rz(yaw) R, the translation is kept (a yaw hypothesis of a pose).
+SE3d turnedAboutVertical(const SE3d& T, double yaw);
 /// Pose from translation and roll/pitch/yaw [rad] (R = Rz(yaw) Ry(pitch) Rx(roll)).
 SE3d makePoseRPY(double x, double y, double z, double roll, double pitch, double yaw);
 
