@@ -412,6 +412,31 @@ TEST(ActiveFusion, OdomAltGapSkipsThePriorThenResumes) {
     EXPECT_LT(sl.max_err_yz, 0.01);
 }
 
+TEST(PriorWeight, ReportedStdKeepsItsSignFromWhereTheAxisWasLastHeld) {
+    // The same 1 cm growth over a 0.5 m frame: where the scan held x this frame (D = 0) it is the
+    // frame's std; 10 m after the last hold, summed over the frames since, the variance must be
+    // the growth of a drift's (rate D)^2, not of a sum of independent 1 cm steps.
+    ActiveFusionParams ap;
+    Mat6d c0 = Mat6d::Zero(), c1 = Mat6d::Zero();
+    c0.diagonal() << Vec3d::Constant(0.10 * 0.10), Vec3d::Constant(1e-6);
+    c1.diagonal() << Vec3d::Constant(0.11 * 0.11), Vec3d::Constant(1e-6 + 1e-12);
+    Vec6d since = Vec6d::Zero();
+    since[1] = 10.0;
+    const Vec6d s = odomIncrementSigmaKeepingSign(c0, c1, ap, 0.5, since);
+    EXPECT_NEAR(s[0], 0.01, 1e-12);
+    EXPECT_NEAR(s[1], 0.01 * std::sqrt(1.0 + 2.0 * 10.0 / 0.5), 1e-12);
+    EXPECT_NEAR(s[5], odomIncrementSigma(c0, c1, ap)[5], 1e-15);  // rotation as before
+    // Frame by frame over a blind stretch: the variances add up to (rate L)^2, rate 2 cm/m.
+    double sum = 0, D = 0;
+    for (int i = 0; i < 40; ++i, D += 0.5) {
+        since[0] = D;
+        sum += std::pow(odomIncrementSigmaKeepingSign(c0, c1, ap, 0.5, since)[0], 2);
+    }
+    EXPECT_NEAR(std::sqrt(sum), 0.02 * 20.0, 1e-9);
+    // No growth reported (a constant covariance): the floor, whatever D.
+    EXPECT_NEAR(odomIncrementSigmaKeepingSign(c1, c1, ap, 0.5, since)[0], ap.odom_sigma_min_xyz, 1e-15);
+}
+
 TEST(PriorWeight, CapByOdomAltCovariance) {
     // odom_alt reports an accumulated drift bound: std 0.10 m at t_prev, 0.11 m at t_cur -> the
     // frame's std is 1 cm (information 1e4); rotation grows by less than the 0.01 deg floor.

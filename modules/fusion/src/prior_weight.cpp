@@ -132,6 +132,19 @@ Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusio
     return sigma;
 }
 
+Vec6d odomIncrementSigmaKeepingSign(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p,
+                                    double d, const Vec6d& since_m) {
+    Vec6d sigma = odomIncrementSigma(cov0, cov1, p);
+    if (!(d > 1e-9) || !std::isfinite(d)) return sigma;
+    for (int k = 0; k < 3; ++k) {
+        const double grow = std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+        const double D = std::isfinite(since_m[k]) ? std::max(0.0, since_m[k]) : 0.0;
+        if (std::isfinite(grow) && grow > 0)
+            sigma[k] = std::max(p.odom_sigma_min_xyz, grow * std::sqrt(1.0 + 2.0 * D / d));
+    }
+    return sigma;
+}
+
 Vec6d capScale(const Vec6d& s, const Vec6d& sigma) {
     Vec6d out;
     for (int k = 0; k < 6; ++k) out[k] = std::min(s[k], 1.0 / (sigma[k] * sigma[k]));

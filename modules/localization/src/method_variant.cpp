@@ -64,7 +64,13 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     // What odom_alt is worth per axis: its calibrated residual, else what it reports, else the
     // passive prior's sigmas.
     Vec6d sigma = fusion::passiveInformation(p_).cwiseSqrt().cwiseInverse();
-    if (f.odom_cov_prev && f.odom_cov_cur) sigma = fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_);
+    // What it reports is read as an error that keeps its sign from where the scan last held
+    // each axis (odomIncrementSigmaKeepingSign; doc/method.md §2, "Before the worth is measured").
+    if (f.odom_cov_prev && f.odom_cov_cur)
+        sigma = p_.odom_calibration
+                    ? fusion::odomIncrementSigmaKeepingSign(*f.odom_cov_prev, *f.odom_cov_cur, p_,
+                                                            f.odom_delta->translation().norm(), calib_.sinceHeld())
+                    : fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_);
     fusion::RelativePosePrior p;
     p.delta = *f.odom_delta;
     if (p_.odom_calibration) {

@@ -95,6 +95,14 @@ Vec6d priorScale(const Mat6d& H);
 /// drift bound), floored by the INI minimums.
 Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p);
 
+/// The same growth read as an error that keeps its sign (a std that grows with the distance is a
+/// drift's, not a sum of independent steps): a frame of `d` metres at `since_m[k]` metres since
+/// the scan last held translation axis k gets sqrt(V(D + d) - V(D)), V(D) = (rate D)^2 with
+/// rate = growth / d, i.e. growth * sqrt(1 + 2 D / d); floored as above. Rotation axes (their
+/// reported std grows with the angle turned, not tracked since held) are as odomIncrementSigma.
+Vec6d odomIncrementSigmaKeepingSign(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p,
+                                    double d, const Vec6d& since_m);
+
 /// s_k capped by 1 / sigma_k^2.
 Vec6d capScale(const Vec6d& s, const Vec6d& sigma);
 
