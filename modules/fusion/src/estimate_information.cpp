@@ -38,6 +38,28 @@ struct CappedCovariance {
 };
 }  // namespace
 
+Mat6d withoutDirection(const Mat6d& H, const Vec6d& u) {
+    const Vec6d Hu = H * u;
+    const double uHu = u.dot(Hu);
+    if (!(uHu > 1e-12 * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff()))) return H;
+    const Mat6d out = H - Hu * Hu.transpose() / uHu;
+    return 0.5 * (out + out.transpose());
+}
+
+std::optional<Vec6d> beyondReach(const Mat6d& carried, const Vec6d& gamma, double weak_gamma, double reach) {
+    if (!(carried.trace() > 0)) return std::nullopt;
+    const Mat6d C = cappedCovariance(carried);
+    const Eigen::SelfAdjointEigenSolver<Mat3d> es(C.topLeftCorner<3, 3>());
+    if (es.info() != Eigen::Success || !(es.eigenvalues()[2] > reach * reach)) return std::nullopt;
+    const Vec3d u = es.eigenvectors().col(2);
+    int k = 0;
+    u.cwiseAbs().maxCoeff(&k);
+    if (!(gamma[k] < weak_gamma)) return std::nullopt;
+    Vec6d u6 = Vec6d::Zero();
+    u6.head<3>() = u;
+    return u6;
+}
+
 Mat6d cappedCovariance(const Mat6d& info) { return CappedCovariance(info).C; }
 
 namespace {

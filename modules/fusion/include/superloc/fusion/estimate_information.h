@@ -56,6 +56,19 @@ inline constexpr double kMaxSigma = 1e3;
 /// The covariance of an information matrix with its unheld directions at kMaxSigma (a
 /// pseudo-inverse that stays finite; weakness() and PosePosterior use it).
 Mat6d cappedCovariance(const Mat6d& info);
+/// What the information `H` says of the rest when the pose is left free along the direction `u`
+/// (unit, body perturbation coordinates): its Schur complement in a basis with u first,
+/// H - H u (u^T H u)^-1 u^T H, so that u^T H' = 0. The information of a measurement whose say
+/// along u is not taken. Not P H P with P projecting u out, which is not below H and can add
+/// information along a direction H left free (a corridor's axis coupled with pitch and yaw).
+Mat6d withoutDirection(const Mat6d& H, const Vec6d& u);
+/// The direction (body perturbation coordinates, translation only) along which a frame should
+/// not take its scan (doc/method.md §4, "Beyond the association's reach"): the position's most
+/// uncertain direction under the carried information `carried`, when its std there exceeds
+/// `reach` [m] and the risk says the scan does not hold the body axis nearest it (`gamma` below
+/// `weak_gamma`). None when nothing is carried (a first frame, a reset filter: the scan is all
+/// there is) or the scan may be taken.
+std::optional<Vec6d> beyondReach(const Mat6d& carried, const Vec6d& gamma, double weak_gamma, double reach);
 Weakness weakness(const Mat6d& info, const Vec6d& weak_sigma);
 
 class EstimateInformation {
