@@ -5,6 +5,8 @@
 #include <superloc/fusion/pose_posterior.h>
 #include <superloc/fusion/prior_weight.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -247,4 +249,58 @@ TEST(EstimateInformation, AnOverweightedOdometryGivesTheEstimateItsOwnError) {
     EXPECT_NEAR(sx_inside, std::sqrt(0.64e-4 + 0.04 * (sx_prev * sx_prev + 0.01)), 0.002);
     std::cout << "x sigma: optimal " << sx_opt << " m, as weighed " << sx_over << " m, as claimed " << sx_claimed
               << " m\n";
+}
+
+// Leaving a scan's say along one direction out: withoutDirection is the Schur complement (what
+// the scan says of the rest when the pose is free along u), which is below H and says nothing
+// along u. The direction must be the carried one (a corridor's axis: body x mixed with z by the
+// body's pitch), not the body axis nearest it: with x alone left free, the floor's hold on z
+// still pins the axis through the carried correlation.
+TEST(PosePosterior, WithoutDirectionIsBelowTheScanAndSaysNothingAlongIt) {
+    // A corridor pitched 1 deg in body axes: the scan holds everything but v, plus crumbs along
+    // body x (2 cm: an alias, as the end wall's).
+    const double p = 1.0 * kDeg;
+    Vec6d v = Vec6d::Zero();
+    v << std::cos(p), 0, std::sin(p), 0, 0, 0;
+    const Mat6d Q = Mat6d::Identity() - v * v.transpose();
+    Mat6d H = Q * (Mat6d::Identity() * 1e6) * Q;
+    H(0, 0) += 2500;
+    const Mat6d W = withoutDirection(H, v);
+    EXPECT_LT((W * v).norm(), 1e-6 * H.norm());
+    EXPECT_GT(Eigen::SelfAdjointEigenSolver<Mat6d>(H - W).eigenvalues().minCoeff(), -1e-6 * H.norm());
+    // The posterior along v: carried 2 m there, 1 cm elsewhere. The whole scan collapses it to
+    // its crumbs; without the scan's say along v it stays the carried 2 m.
+    const Mat6d carried = Q * (Mat6d::Identity() * 1e4) * Q + v * v.transpose() / 4.0;
+    const auto sigma_v = [&](const Mat6d& info) { return std::sqrt(v.dot(cappedCovariance(info) * v)); };
+    EXPECT_LT(sigma_v(carried + H), 0.03);
+    EXPECT_NEAR(sigma_v(carried + W), 2.0, 0.01);
+    // Body x left free instead (its Schur complement, or its row and column zeroed): the floor's
+    // z, through the carried 1 cm across v, still claims v to half a metre.
+    const Vec6d ex = Vec6d::Unit(0);
+    Mat6d P = Mat6d::Identity();
+    P(0, 0) = 0;
+    EXPECT_LT(sigma_v(carried + withoutDirection(H, ex)), 0.7);
+    EXPECT_LT(sigma_v(carried + P * H * P), 0.7);
+}
+
+// When the frame's scan is not taken along its most uncertain direction (beyondReach): the
+// carried position is uncertain there beyond a third of the association's reach, and the risk
+// says the scan does not hold the body axis nearest it.
+TEST(PosePosterior, BeyondTheAssociationsReachTheScanIsNotTakenAlongTheUnheldAxis) {
+    const double p = 1.0 * kDeg;
+    Vec6d v = Vec6d::Zero();
+    v << std::cos(p), 0, std::sin(p), 0, 0, 0;
+    const Mat6d Q = Mat6d::Identity() - v * v.transpose();
+    const auto carriedWith = [&](double sigma) { return Mat6d(Q * (Mat6d::Identity() * 1e4) * Q + v * v.transpose() / (sigma * sigma)); };
+    Vec6d gamma = Vec6d::Ones();
+    gamma[0] = 0.02;  // the corridor's axis
+    const double reach = 1.0 / 3.0, weak = 0.3;
+    const auto u = beyondReach(carriedWith(2.0), gamma, weak, reach);
+    ASSERT_TRUE(u.has_value());
+    EXPECT_NEAR(std::abs(u->dot(v)), 1.0, 1e-6);
+    EXPECT_FALSE(beyondReach(carriedWith(0.2), gamma, weak, reach).has_value());  // within reach
+    gamma[0] = 0.5;
+    EXPECT_FALSE(beyondReach(carriedWith(2.0), gamma, weak, reach).has_value());  // the scan holds it
+    gamma[0] = 0.02;
+    EXPECT_FALSE(beyondReach(Mat6d::Zero(), gamma, weak, reach).has_value());  // nothing carried
 }

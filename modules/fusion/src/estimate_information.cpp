@@ -47,7 +47,8 @@ Mat6d withoutDirection(const Mat6d& H, const Vec6d& u) {
 }
 
 std::optional<Vec6d> beyondReach(const Mat6d& carried, const Vec6d& gamma, double weak_gamma, double reach) {
-    if (!(carried.trace() > 0)) return std::nullopt;
+    // Cheap first: no translation axis the risk leaves unheld, or nothing carried.
+    if (!(gamma.head<3>().minCoeff() < weak_gamma) || !(carried.trace() > 0)) return std::nullopt;
     const Mat6d C = cappedCovariance(carried);
     const Eigen::SelfAdjointEigenSolver<Mat3d> es(C.topLeftCorner<3, 3>());
     if (es.info() != Eigen::Success || !(es.eigenvalues()[2] > reach * reach)) return std::nullopt;

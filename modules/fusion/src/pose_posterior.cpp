@@ -189,20 +189,34 @@ Mat6d PosePosterior::covariance(const Mat6d& info, const FloorGeometry& g) const
 }
 
 PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const FusionParams& params,
-                                            const Mat6d& H_added, const FloorGeometry& floor) const {
+                                            const Mat6d& H_in, const FloorGeometry& floor,
+                                            const std::optional<ScanReach>& reach) const {
     Update u;
     u.floor = floor;
     u.T_ref = in.cur->T_map_imu();
     for (int k = 0; k < 9; ++k) u.sb_ref[k] = in.cur->speed_bias[k];
-    Mat6d pose_info = H_added, carried_pose = Mat6d::Zero();
+    Mat6d H_added = H_in;
+    // The scan along a direction the pose carried beyond the association's reach is left out,
+    // once what was carried is known (beyondReach).
+    const auto leaveOut = [&](const Mat6d& carried_pose) {
+        if (!reach) return false;
+        const auto dir = beyondReach(carried_pose, reach->gamma, reach->weak_gamma, reach->reach);
+        if (dir) H_added = withoutDirection(H_added, *dir);
+        return dir.has_value();
+    };
+    Mat6d pose_info = Mat6d::Zero(), carried_pose = Mat6d::Zero();
     if (in.imu && in.imu->dt() > 0) {
         FrameProblemInputs p = in;
         p.prev_prior = prior_ ? &*prior_ : nullptr;
         // An odom_alt the solve weighed above what it is worth: the information of the estimate
         // it made (the window's sandwich, with and without the scan), not that of the estimate
-        // it should have made.
+        // it should have made. The scan enters the sandwich, so leaving part of it out means a
+        // second sandwich.
         if (in.prior && in.prior->worth) {
-            if (const auto w = imuWindowStateInformationWeighed(p, params, *in.prior->worth, H_added)) {
+            auto w = imuWindowStateInformationWeighed(p, params, *in.prior->worth, H_added);
+            if (w && leaveOut(poseInformation(w->without_scan).value_or(Mat6d::Zero())))
+                w = imuWindowStateInformationWeighed(p, params, *in.prior->worth, H_added);
+            if (w) {
                 u.with_imu = true;
                 u.info_without_scan = w->without_scan;
                 u.info = w->with_scan;
@@ -210,12 +224,11 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
         } else if (const auto carried = imuWindowStateInformation(p, params)) {
             u.with_imu = true;
             u.info_without_scan = *carried;
+            leaveOut(poseInformation(*carried).value_or(Mat6d::Zero()));
             u.info = *carried;
             u.info.topLeftCorner<6, 6>() += H_added;
         }
-        if (u.with_imu) {
-            if (const auto I = poseInformation(u.info)) pose_info = *I;
-        }
+        if (u.with_imu) pose_info = poseInformation(u.info).value_or(H_added);
     } else if (pose_prior_ && in.prior && in.prev) {
         // Without IMU: the last pose's information carried through odom_alt's relative prior,
         // the previous pose eliminated (Schur complement of the 12 x 12 joint information).
@@ -228,10 +241,14 @@ PosePosterior::Update PosePosterior::update(const FrameProblemInputs& in, const 
             const Mat6d Apc = Jp.transpose() * W;
             Mat6d carried = W - Apc.transpose() * ldlt.solve(Apc);
             carried = 0.5 * (carried + carried.transpose());
-            if (carried.allFinite()) pose_info += carried, carried_pose = carried;
+            if (carried.allFinite()) {
+                carried_pose = carried;
+                leaveOut(carried_pose);
+            }
         }
     }
     if (!u.with_imu) {
+        pose_info = H_added + carried_pose;
         u.info.topLeftCorner<6, 6>() = pose_info;
         u.info_without_scan.topLeftCorner<6, 6>() = carried_pose;
     }

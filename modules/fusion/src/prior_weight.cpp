@@ -121,12 +121,18 @@ Vec6d priorScale(const Mat6d& H) {
     return s;
 }
 
+namespace {
+/// The growth of a reported std on axis k between two covariances (may be negative or NaN).
+double stdGrowth(const Mat6d& cov0, const Mat6d& cov1, int k) {
+    return std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+}
+}  // namespace
+
 Vec6d odomIncrementSigma(const Mat6d& cov0, const Mat6d& cov1, const ActiveFusionParams& p) {
     Vec6d sigma;
     for (int k = 0; k < 6; ++k) {
         const double floor = k < 3 ? p.odom_sigma_min_xyz : p.odom_sigma_min_rot_deg * M_PI / 180.0;
-        const double grow =
-            std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+        const double grow = stdGrowth(cov0, cov1, k);
         sigma[k] = std::max(floor, std::isfinite(grow) ? grow : floor);
     }
     return sigma;
@@ -137,7 +143,7 @@ Vec6d odomIncrementSigmaKeepingSign(const Mat6d& cov0, const Mat6d& cov1, const 
     Vec6d sigma = odomIncrementSigma(cov0, cov1, p);
     if (!(d > 1e-9) || !std::isfinite(d)) return sigma;
     for (int k = 0; k < 3; ++k) {
-        const double grow = std::sqrt(std::max(0.0, cov1(k, k))) - std::sqrt(std::max(0.0, cov0(k, k)));
+        const double grow = stdGrowth(cov0, cov1, k);
         const double D = std::isfinite(since_m[k]) ? std::max(0.0, since_m[k]) : 0.0;
         if (std::isfinite(grow) && grow > 0)
             sigma[k] = std::max(p.odom_sigma_min_xyz, grow * std::sqrt(1.0 + 2.0 * D / d));

@@ -2,7 +2,6 @@
 // solve, without its scan for a frame in doubt, plus what the sweep's undone motion leaves.
 #include <superloc/core/se3.h>
 #include <superloc/core/timing.h>
-#include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/prior_weight.h>
 #include <superloc/localization/tracker.h>
 
@@ -41,22 +40,16 @@ void Tracker::posterior(const Frame& f, FrameSolution& sol) const {
     if (a.cov_map_length > 0)
         floor.map_share = fusion::mapErrorShare(sol.corr, sol.state.T_map_imu(), a.cov_map_cell, a.cov_map_length,
                                                 noiseFloorShare(params_));
-    Mat6d H_added = sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info;
-    sol.post = post_.update(in, params_.fusion, H_added, floor);
-    // Beyond the association's reach: where the position the frame carried is uncertain by more
-    // than a third of max_corr_dist along a direction the risk says the scan does not hold
-    // (gamma of the body axis nearest it below [health] weak_gamma), the scan was associated at
-    // a prediction that may be more than its reach off, and what it says along that direction
-    // may be an alias of the truth, not evidence of it (a corridor's end wall coming into view
-    // 3.8 m from where the drifted pose puts it: 1.7 m -> 2 cm while 3.8 m off). The covariance
-    // does not take the scan along it (fusion::withoutDirection) until the risk says the scan
-    // holds the axis (doc/method.md §4, "Beyond the association's reach"). Nothing carried (a
-    // first frame, a reset filter): the scan is all there is, and is taken.
-    if (const auto u = fusion::beyondReach(sol.post->carriedPoseInformation(), sol.report.gamma,
-                                           params_.health.weak_gamma, params_.loc.max_corr_dist / 3.0)) {
-        H_added = fusion::withoutDirection(H_added, *u);
-        sol.post = post_.update(in, params_.fusion, H_added, floor);
-    }
+    // Not along a direction carried beyond the association's reach that the risk says the scan
+    // does not hold: what the scan says there may be an alias of the truth (an end wall coming
+    // into view metres from where the drifted pose puts it; doc/method.md §4, "Beyond the
+    // association's reach").
+    fusion::ScanReach reach;
+    reach.gamma = sol.report.gamma;
+    reach.weak_gamma = params_.health.weak_gamma;
+    reach.reach = params_.loc.max_corr_dist / 3.0;
+    sol.post = post_.update(in, params_.fusion, sol.est_info ? sol.est_info->scanPart(sol.scan_info) : sol.scan_info,
+                            floor, reach);
     sol.report.cov = sol.post->cov + sweepCovariance(f, sol);
     sol.report.ms.risk += msSince(t0);
 }

@@ -71,6 +71,14 @@ struct FloorGeometry {
     std::optional<Mat3d> map_share;
 };
 
+/// What PosePosterior::update needs to leave the scan out along a direction carried beyond the
+/// association's reach (beyondReach; doc/method.md §4, "Beyond the association's reach").
+struct ScanReach {
+    Vec6d gamma = Vec6d::Ones();  ///< the frame's risk per body axis
+    double weak_gamma = 0.3;      ///< [-] below: the scan does not hold the axis
+    double reach = 1.0 / 3.0;     ///< [m] the carried std beyond which the association may alias
+};
+
 class PosePosterior {
    public:
     /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
@@ -103,9 +111,10 @@ class PosePosterior {
     /// and the scan's information above its noise floor, of which the filter adds what the
     /// estimate does (`H_added`, EstimateInformation::scanPart); `floor`: what the covariance's
     /// floor is read off (its H: the scan's information above its noise floor, whole). Does
-    /// not change the filter.
+    /// not change the filter. With `reach`, the scan is not taken along the carried position's
+    /// direction beyondReach names (its Schur complement along it, withoutDirection).
     Update update(const FrameProblemInputs& in, const FusionParams& params, const Mat6d& H_added,
-                  const FloorGeometry& floor) const;
+                  const FloorGeometry& floor, const std::optional<ScanReach>& reach = std::nullopt) const;
     /// `u` without its frame's scan: what the frame knows when its registration is in doubt (not
     /// converged, or fitting clearly worse than this map gives), the scan's information being
     /// taken at associations that may be wrong (a corridor's end wall coming into view 5 m from
