@@ -1,6 +1,7 @@
 // The reported pose's covariance (fusion::PosePosterior, doc/method.md §4).
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
+#include <superloc/fusion/estimate_information.h>
 #include <superloc/fusion/pose_posterior.h>
 #include <superloc/fusion/prior_weight.h>
 
@@ -376,4 +377,30 @@ TEST(MapErrorShare, ShapesThePositionFloorOnly) {
     EXPECT_TRUE((without.topLeftCorner<3, 3>().isApprox(expected, 1e-12)));
     const Mat6d constant = post.floorCovariance(FloorGeometry{Mat6d::Zero(), true, std::nullopt});
     EXPECT_TRUE((constant.topLeftCorner<3, 3>().isApprox(0.007 * 0.007 * Mat3d::Identity(), 1e-12)));
+}
+
+// The drift's direction (driftTiltCovariance): a position carried 2 m along a corridor that the
+// scan holds to 3 mm across, whose free direction the map's normals tilt by 0.4 deg against the
+// axis the pose really drifts along. The error such a drift makes (2 m along the axis, the scan's
+// hold across it) is far outside the covariance as linearized, and inside it with the term; the
+// term is nothing along the free direction, and nothing where the information leaves a direction
+// unheld.
+TEST(PosePosterior, TheDriftsDirectionIsKnownToItsTiltOnly) {
+    const double tilt = 0.4 * kDeg;
+    const Vec3d u(std::cos(tilt), std::sin(tilt), 0.0);  // the linearized free direction
+    const Vec3d v(-u.y(), u.x(), 0.0);
+    Mat6d C = Mat6d::Identity() * 1e-6;
+    C.topLeftCorner<3, 3>() = 4.0 * u * u.transpose() + 9e-6 * (v * v.transpose() + Vec3d::UnitZ() * Vec3d::UnitZ().transpose());
+    const Vec3d err(2.0, 0.0, 0.0);  // along the true axis
+    const auto nees = [&](const Mat6d& M) { return err.dot(M.topLeftCorner<3, 3>().ldlt().solve(err)); };
+    EXPECT_GT(nees(C), 20.0);
+    const Mat6d T = driftTiltCovariance(C, 0.5 * kDeg);
+    EXPECT_LT(nees(C + T), 7.81);
+    EXPECT_NEAR(u.dot(T.topLeftCorner<3, 3>() * u), 0.0, 1e-12);
+    EXPECT_NEAR(v.dot(T.topLeftCorner<3, 3>() * v), std::pow(std::sin(0.5 * kDeg) * 2.0, 2), 1e-9);
+    EXPECT_TRUE(T.bottomRows<3>().isZero() && T.rightCols<3>().isZero());
+    EXPECT_TRUE(driftTiltCovariance(C, 0.0).isZero());
+    Mat6d unheld = C;
+    unheld.topLeftCorner<3, 3>() += kMaxSigma * kMaxSigma * u * u.transpose();
+    EXPECT_TRUE(driftTiltCovariance(unheld, 0.5 * kDeg).isZero());
 }

@@ -183,8 +183,22 @@ Mat6d PosePosterior::floorCovariance(const FloorGeometry& g) const {
     return C;
 }
 
+Mat6d driftTiltCovariance(const Mat6d& C, double tilt) {
+    Mat6d out = Mat6d::Zero();
+    if (!(tilt > 0)) return out;
+    const Eigen::SelfAdjointEigenSolver<Mat3d> es(0.5 * (C.topLeftCorner<3, 3>() + C.topLeftCorner<3, 3>().transpose()));
+    if (es.info() != Eigen::Success) return out;
+    const double l = es.eigenvalues()[2];
+    if (!(l > 0) || !(l < 0.01 * kMaxSigma * kMaxSigma)) return out;
+    const Vec3d u = es.eigenvectors().col(2);
+    const double s = std::sin(tilt);
+    out.topLeftCorner<3, 3>() = s * s * l * (Mat3d::Identity() - u * u.transpose());
+    return out;
+}
+
 Mat6d PosePosterior::covariance(const Mat6d& info, const FloorGeometry& g) const {
-    Mat6d C = cappedCovariance(info) + floorCovariance(g);
+    const Mat6d Ci = cappedCovariance(info);
+    Mat6d C = Ci + driftTiltCovariance(Ci, drift_tilt_) + floorCovariance(g);
     return 0.5 * (C + C.transpose());
 }
 

@@ -28,6 +28,7 @@ void ActiveFusionParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(cov_map_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(cov_map_length, double, c, s);
     MRPT_LOAD_CONFIG_VAR(cov_map_cell, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(cov_drift_tilt_deg, double, c, s);
     prior_kernel = c.read_string(s, "prior_kernel", prior_kernel);
     MRPT_LOAD_CONFIG_VAR(prior_kernel_sigmas, double, c, s);
 }
@@ -50,6 +51,7 @@ void ActiveFusionParams::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     MRPT_SAVE_CONFIG_VAR_COMMENT(cov_map_xyz, "[m] the prior map's error coherent over a scan: rotation std floor about axis k = this / the scan's lever arm about k");
     MRPT_SAVE_CONFIG_VAR_COMMENT(cov_map_length, "[m] the map's error field's correlation length: the position's map floor is the share the scan's footprint takes of it (0: all of it, the constant floor)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(cov_map_cell, "[m] the grid the scan's correspondences are summed on for that share (coarser where a scan spans more than 64 cells)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(cov_drift_tilt_deg, "[deg] the covariance's free direction is known to this: across it the position takes sin(this) x its std there");
     MRPT_SAVE_CONFIG_VAR_COMMENT(estimate_imu_scale, "[-] the estimate's IMU noise and bias walks = [imu]'s x this (the solver keeps [imu]'s)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel, "robust loss on the odom_alt prior: none | huber | cauchy");
     MRPT_SAVE_CONFIG_VAR_COMMENT(prior_kernel_sigmas, "[-] its scale, in sigmas of the prior");
@@ -82,6 +84,8 @@ void ActiveFusionParams::validate() const {
     if (!(cov_map_length >= 0 && std::isfinite(cov_map_length)))
         throw ConfigError("[fusion] cov_map_length must be finite and >= 0");
     if (!(cov_map_cell > 0 && std::isfinite(cov_map_cell))) throw ConfigError("[fusion] cov_map_cell must be finite and > 0");
+    if (!(cov_drift_tilt_deg >= 0 && cov_drift_tilt_deg < 45))
+        throw ConfigError("[fusion] cov_drift_tilt_deg must be in [0, 45)");
 }
 
 Mat6d scanInformation(const std::vector<Correspondence>& corr, const SE3d& T, double sigma,

@@ -29,7 +29,8 @@ Tracker::Tracker(const LocalizerParams& params, const MethodVariant& variant, co
           floor << Vec3d::Constant(params.fusion.active.cov_floor_xyz),
               Vec3d::Constant(params.fusion.active.cov_floor_deg * kDeg);
           return floor;
-      }(), params.fusion.active.cov_map_xyz, params.fusion.active.cov_floor_imu_xyz) {}
+      }(), params.fusion.active.cov_map_xyz, params.fusion.active.cov_floor_imu_xyz,
+            params.fusion.active.cov_drift_tilt_deg * kDeg) {}
 
 void Tracker::setMap(std::shared_ptr<const map::PriorMap> map, const NdtAligner* ndt) {
     map_ = std::move(map);

@@ -79,6 +79,14 @@ struct ScanReach {
     double reach = 1.0 / 3.0;     ///< [m] the carried std beyond which the association may alias
 };
 
+/// What a carried position's drift puts across its own direction when that direction is known
+/// to `tilt` [rad] only: the covariance `C`'s position block has its largest eigenvalue λ along
+/// u; the direction the pose really drifts along may be tilted from u by `tilt`, which moves the
+/// position across u by tilt x its displacement along u: tilt^2 λ (I - u u^T), added to the
+/// position block. Along a direction the information leaves unheld (λ at kMaxSigma^2, a pose
+/// not carried there at all), nothing: the linear picture says nothing of metres of tilt there.
+Mat6d driftTiltCovariance(const Mat6d& C, double tilt);
+
 class PosePosterior {
    public:
     /// `floor`: the std floor per axis (x y z [m], roll pitch yaw [rad]); `map_sigma` [m]: the
@@ -88,8 +96,11 @@ class PosePosterior {
     /// `floor`'s). Where a frame's FloorGeometry has a map share M, that much of the position's
     /// floor is the map's: floor_xyz_imu^2 M, and the rest of `floor` (deskew, timing) stays
     /// whole: (floor^2 - floor_xyz_imu^2) I.
-    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0, double floor_xyz_imu = -1.0)
-        : floor_(floor), map_sigma_(map_sigma), floor_xyz_imu_(floor_xyz_imu) {}
+    /// `drift_tilt` [rad]: how well the direction a carried position drifts along is known
+    /// (driftTiltCovariance); 0: exactly.
+    explicit PosePosterior(const Vec6d& floor = Vec6d::Zero(), double map_sigma = 0.0, double floor_xyz_imu = -1.0,
+                           double drift_tilt = 0.0)
+        : floor_(floor), map_sigma_(map_sigma), floor_xyz_imu_(floor_xyz_imu), drift_tilt_(drift_tilt) {}
 
     struct Update {
         /// The current state's information after the frame (IMU: 15 x 15; without: pose only,
@@ -129,7 +140,8 @@ class PosePosterior {
     /// A pose's covariance from its information alone, floor included (unheld directions capped
     /// at kMaxSigma); the rotation's floor raised to what the map's coherent error leaves at the
     /// lever arms of the scan information `floor.H` (mapRotationFloor); the position's floor
-    /// shaped by the map share where `floor` has one.
+    /// shaped by the map share where `floor` has one; across the position's most uncertain
+    /// direction, what that direction's tilt leaves (driftTiltCovariance).
     Mat6d covariance(const Mat6d& info, const FloorGeometry& floor) const;
     /// The floor's covariance of a frame (body axes).
     Mat6d floorCovariance(const FloorGeometry& floor) const;
@@ -140,6 +152,7 @@ class PosePosterior {
     Vec6d floor_;
     double map_sigma_ = 0.0;
     double floor_xyz_imu_ = -1.0;
+    double drift_tilt_ = 0.0;
     std::optional<StatePrior> prior_;  ///< with IMU: on the last committed state
     std::optional<std::pair<SE3d, Mat6d>> pose_prior_;  ///< without: T_map_imu and its information
 };

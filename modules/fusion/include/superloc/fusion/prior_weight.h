@@ -70,6 +70,12 @@ struct ActiveFusionParams : public mrpt::config::CLoadableOptions {
     /// [m] the grid the scan's correspondences are summed on for that share (doubled where a
     /// scan spans more than fusion::kMapShareMaxCells cells)
     double cov_map_cell = 4.0;
+    /// [deg] how well the direction a carried position drifts along is known: the scan's
+    /// linearized free direction, which the map's tilted normals turn by about this against the
+    /// direction the pose really drifts along (the axis of motion). The position's covariance
+    /// takes (sin(this) x its largest std)^2 across that direction (fusion::driftTiltCovariance,
+    /// doc/method.md §4 "The drift's direction"); 0: none
+    double cov_drift_tilt_deg = 0.5;
     std::string prior_kernel = "cauchy";
     double prior_kernel_sigmas = 10.0;  ///< [-] Cauchy scale, in sigmas of the prior
 
