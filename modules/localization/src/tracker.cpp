@@ -209,7 +209,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
         if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol);
     } else {
         icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol);
-        if (!icp_.association().voxel) {
+        if (!icp_.association().voxel()) {
             // Inliers measured as tracking measures them, so that the refined poses compare with
             // the frame's own solve (the two associations count inliers differently).
             const auto ta = Clock::now();

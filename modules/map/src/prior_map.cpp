@@ -22,6 +22,8 @@ struct PriorMap::Impl {
     detail::PointsAdaptor adaptor;
     std::unique_ptr<detail::KdTree> tree;
     VoxelMap voxels;
+    std::once_flag grid_once;
+    PointGrid grid;
     double prepare_seconds = 0;
     // Lazy part: the kd-tree and the geometry's storage, built by the first query that needs
     // them, and each point's geometry, computed by the first query of that point (state: 0 = not
@@ -33,6 +35,10 @@ struct PriorMap::Impl {
     std::optional<Vec3f> viewpoint;
 
     void buildTree();
+    const PointGrid& buildGrid() {
+        std::call_once(grid_once, [this] { grid = PointGrid(points, params.grid_cell); });
+        return grid;
+    }
     const PointGeometry& ensureGeometry(size_t i);
     PointGeometry computeGeometry(size_t i) const;
 };
@@ -117,6 +123,7 @@ double PriorMap::prepareGeometry(unsigned threads) const {
     mrpt::system::CTicTac timer;
     Impl& m = *impl_;
     m.buildTree();
+    m.buildGrid();
     const size_t n = m.points.size();
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     // Blocks of consecutive points (neighbours in the voxel filter's order share cache lines),
@@ -151,13 +158,15 @@ const PointGeometry& PriorMap::geometry(size_t i) const {
     return impl_->ensureGeometry(i);
 }
 const VoxelMap& PriorMap::voxels() const { return impl_->voxels; }
+const PointGrid& PriorMap::grid() const { return impl_->buildGrid(); }
 double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
 
 size_t PriorMap::memoryBytes() const {
     size_t b = impl_->points.capacity() * sizeof(Vec3f) + impl_->voxels.memoryBytes() +
                impl_->given_normals.capacity() * sizeof(Vec3f) +
                impl_->geometry.capacity() * sizeof(PointGeometry) +
-               (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0);
+               (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0) +
+               impl_->grid.memoryBytes();
     if (impl_->tree) b += impl_->tree->usedMemory(*impl_->tree);
     return b;
 }

@@ -1,10 +1,13 @@
 // The prior map: voxelized map points and the multi-resolution voxel map registration uses
-// (built at load). A kd-tree is built by the first nearest-neighbour query; each point's normal,
-// planarity, linearity and fit residual are computed by the first query of that point.
+// (built at load). A kd-tree is built by the first nearest-neighbour query, the fine hash grid of
+// the bounded queries (PointGrid) by the first bounded query; each point's normal, planarity,
+// linearity and fit residual are computed by the first query of that point (all three at load
+// with MapParams::geometry_at_load).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <superloc/core/types.h>
+#include <superloc/map/point_grid.h>
 #include <superloc/map/voxel_map.h>
 
 #include <memory>
@@ -34,6 +37,9 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     /// the same either way; prepareSeconds() includes the time. On by default: a tracked frame
     /// then pays for no map point's geometry (KITTI's reference split: 16 -> 9 ms a frame).
     bool geometry_at_load = true;
+    /// [m] cell edge of the fine hash grid (PointGrid) the `planes` association's fallback
+    /// searches: the nearest map point within this distance, in 27 cells at most (doc/map.md)
+    double grid_cell = 0.5;
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
 
@@ -84,12 +90,15 @@ class PriorMap {
     /// Per-point PCA geometry (normal_k neighbours within normal_max_radius), computed by the
     /// first call for that point; thread-safe. Throws std::out_of_range for a bad index.
     const PointGeometry& geometry(size_t i) const;
-    /// Builds the kd-tree and computes every point's geometry now, on `threads` threads (0: one
+    /// Builds the kd-tree and the point grid and computes every point's geometry now, on `threads` threads (0: one
     /// per core), so that no later query pays for it. The same values as computed on first use.
     /// Returns the seconds it took.
     double prepareGeometry(unsigned threads = 0) const;
     /// The registration map (association of the localizer).
     const VoxelMap& voxels() const;
+    /// The fine hash grid of bounded nearest-neighbour queries (MapParams::grid_cell), built by
+    /// the first call (at load with geometry_at_load); thread-safe.
+    const PointGrid& grid() const;
 
     /// k nearest map points to q (fewer if the map is smaller); thread-safe. The first call
     /// builds the kd-tree.

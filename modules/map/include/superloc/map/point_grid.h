@@ -1,0 +1,60 @@
+// A fine hash grid over the map points: bounded nearest-neighbour queries for the association's
+// fallback (doc/map.md, "The planes association").
+//
+// Cells of edge `cell`; each cell's points are stored contiguously (the points sorted by cell),
+// found by one hash probe. A query visits the cell containing it, then those of its 26
+// neighbours whose box is nearer than the best point found so far: the exact nearest map point
+// whenever one is within `cell`, and never more than 27 cells, whatever the map's size. Built in
+// time and memory linear in the points: 4 bytes per point (its index, in cell order) and 16 per
+// occupied cell. The points themselves are the caller's (PriorMap's), read in place.
+#pragma once
+
+#include <superloc/core/types.h>
+
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace superloc::map {
+
+class PointGrid {
+   public:
+    static constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+
+    PointGrid() = default;
+    /// A grid over `points`, which must outlive it unchanged (they are read in place). Throws
+    /// std::invalid_argument when `cell` is not > 0.
+    PointGrid(const std::vector<Vec3f>& points, double cell);
+
+    double cell() const { return cell_; }
+    /// The nearest point to q within max_dist (clamped to cell()): its index in the points given
+    /// to the constructor and its squared distance; {kNone, inf} when there is none.
+    std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist) const;
+    /// Up to k points within max_dist (clamped to cell()) of q, nearest first.
+    void knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx, std::vector<float>& sq_dists) const;
+    /// Cells holding at least one point.
+    size_t cells() const { return count_; }
+    size_t memoryBytes() const;
+
+   private:
+    struct Slot {
+        uint64_t key = ~0ull;
+        uint32_t begin = 0, end = 0;  ///< range of pts_ / index_
+    };
+    const Slot* find(int64_t x, int64_t y, int64_t z) const;
+    /// Calls visit(begin, end) for the query's own cell, then for each neighbour whose box is
+    /// nearer than bound() (squared), which the visits may shrink.
+    template <class Visit, class Bound>
+    void forCells(const Vec3f& q, Visit&& visit, Bound&& bound) const;
+
+    double cell_ = 0;
+    float inv_ = 0;
+    std::vector<Slot> table_;  ///< open addressing, linear probing, power-of-two size
+    uint64_t mask_ = 0;
+    size_t count_ = 0;
+    const std::vector<Vec3f>* pts_ = nullptr;  ///< the constructor's points
+    std::vector<uint32_t> index_;              ///< indices into them, sorted by cell
+};
+
+}  // namespace superloc::map

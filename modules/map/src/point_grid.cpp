@@ -1,0 +1,153 @@
+// PointGrid: points sorted by cell, one hash slot per occupied cell; bounded 27-cell queries.
+#include <superloc/core/floor_int.h>
+#include <superloc/core/voxel.h>
+#include <superloc/map/point_grid.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace superloc::map {
+
+namespace {
+constexpr float kMaxIndex = float(1 << 20) - 4;  // packVoxelIndices is exact within +-2^20
+
+/// The 26 neighbour offsets, faces first, then edges, then corners: the nearer boxes first, so
+/// that the best distance shrinks early and prunes the far ones.
+const std::array<std::array<int, 3>, 26>& neighbourOffsets() {
+    static const std::array<std::array<int, 3>, 26> offsets = [] {
+        std::array<std::array<int, 3>, 26> o{};
+        size_t n = 0;
+        for (int nonzero = 1; nonzero <= 3; ++nonzero)
+            for (int dx = -1; dx <= 1; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dz = -1; dz <= 1; ++dz)
+                        if ((dx != 0) + (dy != 0) + (dz != 0) == nonzero) o[n++] = {dx, dy, dz};
+        return o;
+    }();
+    return offsets;
+}
+}  // namespace
+
+PointGrid::PointGrid(const std::vector<Vec3f>& points, double cell) : cell_(cell), pts_(&points) {
+    if (!(cell > 0) || !std::isfinite(cell)) throw std::invalid_argument("PointGrid: cell must be > 0 m");
+    inv_ = static_cast<float>(1.0 / cell);
+    // Sort (cell key, index) pairs; points outside the key range or not finite are left out.
+    std::vector<std::pair<uint64_t, uint32_t>> keyed;
+    keyed.reserve(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const Vec3f s = points[i] * inv_;
+        if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex) continue;
+        keyed.emplace_back(packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())),
+                           static_cast<uint32_t>(i));
+    }
+    std::sort(keyed.begin(), keyed.end());  // by cell, then by index (memory order within a cell)
+    index_.resize(keyed.size());
+    for (size_t j = 0; j < keyed.size(); ++j) index_[j] = keyed[j].second;
+    for (size_t j = 0; j < keyed.size(); ++j)
+        if (j == 0 || keyed[j].first != keyed[j - 1].first) ++count_;
+    size_t cap = 16;
+    while (cap < 2 * count_) cap <<= 1;
+    table_.assign(cap, Slot{});
+    mask_ = cap - 1;
+    for (size_t j = 0; j < keyed.size();) {
+        size_t e = j;
+        while (e < keyed.size() && keyed[e].first == keyed[j].first) ++e;
+        for (uint64_t h = mixVoxelKey(keyed[j].first) & mask_;; h = (h + 1) & mask_)
+            if (table_[h].key == ~0ull) {
+                table_[h] = Slot{keyed[j].first, static_cast<uint32_t>(j), static_cast<uint32_t>(e)};
+                break;
+            }
+        j = e;
+    }
+}
+
+const PointGrid::Slot* PointGrid::find(int64_t x, int64_t y, int64_t z) const {
+    const uint64_t key = packVoxelIndices(x, y, z);
+    for (uint64_t h = mixVoxelKey(key) & mask_;; h = (h + 1) & mask_) {
+        const Slot& s = table_[h];
+        if (s.key == key) return &s;
+        if (s.key == ~0ull) return nullptr;
+    }
+}
+
+template <class Visit, class Bound>
+void PointGrid::forCells(const Vec3f& q, Visit&& visit, Bound&& bound) const {
+    if (table_.empty()) return;
+    const Vec3f s = q * inv_;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex) return;
+    const int64_t c[3] = {floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())};
+    // Distance [m] from q to the lower and the upper face of its cell, per axis.
+    float lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+        const float f = s[k] - static_cast<float>(c[k]);
+        lo[k] = f * static_cast<float>(cell_);
+        hi[k] = (1.0f - f) * static_cast<float>(cell_);
+    }
+    if (const Slot* own = find(c[0], c[1], c[2])) visit(own->begin, own->end);
+    for (const auto& o : neighbourOffsets()) {
+        float box = 0;  // squared distance from q to the neighbour's box
+        for (int k = 0; k < 3; ++k) {
+            const float d = o[k] < 0 ? lo[k] : (o[k] > 0 ? hi[k] : 0.0f);
+            box += d * d;
+        }
+        if (box >= bound()) continue;
+        if (const Slot* n = find(c[0] + o[0], c[1] + o[1], c[2] + o[2])) visit(n->begin, n->end);
+    }
+}
+
+std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist) const {
+    const float r = std::min(max_dist, static_cast<float>(cell_));
+    float best = r * r;
+    uint32_t best_i = kNone;
+    const std::vector<Vec3f>& pts = *pts_;
+    forCells(
+        q,
+        [&](uint32_t b, uint32_t e) {
+            for (uint32_t j = b; j < e; ++j) {
+                const uint32_t i = index_[j];
+                const float d2 = (pts[i] - q).squaredNorm();
+                if (d2 <= best) best = d2, best_i = i;
+            }
+        },
+        [&] { return best; });
+    if (best_i == kNone) return {kNone, std::numeric_limits<float>::infinity()};
+    return {best_i, best};
+}
+
+void PointGrid::knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx,
+                    std::vector<float>& sq_dists) const {
+    idx.clear();
+    sq_dists.clear();
+    if (k == 0) return;
+    const float r = std::min(max_dist, static_cast<float>(cell_));
+    const float r2 = r * r;
+    // Sorted, at most k: (squared distance, point index).
+    std::vector<std::pair<float, uint32_t>> best;
+    best.reserve(k + 1);
+    const std::vector<Vec3f>& pts = *pts_;
+    forCells(
+        q,
+        [&](uint32_t b, uint32_t e) {
+            for (uint32_t j = b; j < e; ++j) {
+                const uint32_t i = index_[j];
+                const float d2 = (pts[i] - q).squaredNorm();
+                if (d2 > r2 || (best.size() == k && d2 >= best.back().first)) continue;
+                const auto at = std::upper_bound(best.begin(), best.end(), std::make_pair(d2, i));
+                best.insert(at, {d2, i});
+                if (best.size() > k) best.pop_back();
+            }
+        },
+        [&] { return best.size() == k ? best.back().first : r2; });
+    for (const auto& [d2, i] : best) {
+        idx.push_back(i);
+        sq_dists.push_back(d2);
+    }
+}
+
+size_t PointGrid::memoryBytes() const {
+    return table_.capacity() * sizeof(Slot) + index_.capacity() * sizeof(uint32_t);
+}
+
+}  // namespace superloc::map
