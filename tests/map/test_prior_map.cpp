@@ -302,6 +302,5 @@ TEST(PriorMap, GeometryAtLoadIsPreparedByTheConstructorWithTheViewpointsOrientat
         ASSERT_EQ(ready.geometry(i).normal, lazy.geometry(i).normal) << "point " << i;
         ASSERT_TRUE(ready.geometry(i).oriented) << "point " << i;
     }
-    lazy.grid();  // the point grid: built by the first bounded query, at load with geometry_at_load
     EXPECT_EQ(ready.memoryBytes(), lazy.memoryBytes());
 }

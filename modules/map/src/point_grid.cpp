@@ -30,33 +30,52 @@ const std::array<std::array<int, 3>, 26>& neighbourOffsets() {
 }
 }  // namespace
 
+namespace {
+/// Each point's cell key, or ~0 for a point outside the key range or not finite.
+std::vector<uint64_t> cellKeys(const std::vector<Vec3f>& points, float inv) {
+    std::vector<uint64_t> keys(points.size(), ~0ull);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const Vec3f s = points[i] * inv;
+        if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex) continue;
+        keys[i] = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
+    }
+    return keys;
+}
+}  // namespace
+
+std::vector<uint32_t> PointGrid::cellOrder(const std::vector<Vec3f>& points, double cell) {
+    if (!(cell > 0) || !std::isfinite(cell)) throw std::invalid_argument("PointGrid: cell must be > 0 m");
+    const std::vector<uint64_t> keys = cellKeys(points, static_cast<float>(1.0 / cell));
+    std::vector<uint32_t> order(points.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<uint32_t>(i);
+    std::stable_sort(order.begin(), order.end(), [&keys](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+    return order;
+}
+
 PointGrid::PointGrid(const std::vector<Vec3f>& points, double cell) : cell_(cell), pts_(&points) {
     if (!(cell > 0) || !std::isfinite(cell)) throw std::invalid_argument("PointGrid: cell must be > 0 m");
     inv_ = static_cast<float>(1.0 / cell);
-    // Sort (cell key, index) pairs; points outside the key range or not finite are left out.
-    std::vector<std::pair<uint64_t, uint32_t>> keyed;
-    keyed.reserve(points.size());
-    for (size_t i = 0; i < points.size(); ++i) {
-        const Vec3f s = points[i] * inv_;
-        if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex) continue;
-        keyed.emplace_back(packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())),
-                           static_cast<uint32_t>(i));
-    }
-    std::sort(keyed.begin(), keyed.end());  // by cell, then by index (memory order within a cell)
-    index_.resize(keyed.size());
-    for (size_t j = 0; j < keyed.size(); ++j) index_[j] = keyed[j].second;
-    for (size_t j = 0; j < keyed.size(); ++j)
-        if (j == 0 || keyed[j].first != keyed[j - 1].first) ++count_;
+    const std::vector<uint64_t> keys = cellKeys(points, inv_);
+    // In cell order already (PriorMap's points): the cells are ranges of the points themselves.
+    const bool ordered = std::is_sorted(keys.begin(), keys.end());
+    if (!ordered) index_ = cellOrder(points, cell);
+    const auto keyAt = [&](size_t j) { return keys[ordered ? j : index_[j]]; };
+    size_t n = 0;  // points inside the grid's range (the others sort last)
+    while (n < keys.size() && keyAt(n) != ~0ull) ++n;
+    if (!ordered) index_.resize(n);
+    for (size_t j = 0; j < n; ++j)
+        if (j == 0 || keyAt(j) != keyAt(j - 1)) ++count_;
     size_t cap = 16;
     while (cap < 2 * count_) cap <<= 1;
     table_.assign(cap, Slot{});
     mask_ = cap - 1;
-    for (size_t j = 0; j < keyed.size();) {
+    for (size_t j = 0; j < n;) {
         size_t e = j;
-        while (e < keyed.size() && keyed[e].first == keyed[j].first) ++e;
-        for (uint64_t h = mixVoxelKey(keyed[j].first) & mask_;; h = (h + 1) & mask_)
+        const uint64_t key = keyAt(j);
+        while (e < n && keyAt(e) == key) ++e;
+        for (uint64_t h = mixVoxelKey(key) & mask_;; h = (h + 1) & mask_)
             if (table_[h].key == ~0ull) {
-                table_[h] = Slot{keyed[j].first, static_cast<uint32_t>(j), static_cast<uint32_t>(e)};
+                table_[h] = Slot{key, static_cast<uint32_t>(j), static_cast<uint32_t>(e)};
                 break;
             }
         j = e;
@@ -105,6 +124,13 @@ std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist) co
     forCells(
         q,
         [&](uint32_t b, uint32_t e) {
+            if (index_.empty()) {
+                for (uint32_t i = b; i < e; ++i) {
+                    const float d2 = (pts[i] - q).squaredNorm();
+                    if (d2 <= best) best = d2, best_i = i;
+                }
+                return;
+            }
             for (uint32_t j = b; j < e; ++j) {
                 const uint32_t i = index_[j];
                 const float d2 = (pts[i] - q).squaredNorm();
@@ -131,7 +157,7 @@ void PointGrid::knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32
         q,
         [&](uint32_t b, uint32_t e) {
             for (uint32_t j = b; j < e; ++j) {
-                const uint32_t i = index_[j];
+                const uint32_t i = index_.empty() ? j : index_[j];
                 const float d2 = (pts[i] - q).squaredNorm();
                 if (d2 > r2 || (best.size() == k && d2 >= best.back().first)) continue;
                 const auto at = std::upper_bound(best.begin(), best.end(), std::make_pair(d2, i));

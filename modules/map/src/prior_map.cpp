@@ -22,7 +22,6 @@ struct PriorMap::Impl {
     detail::PointsAdaptor adaptor;
     std::unique_ptr<detail::KdTree> tree;
     VoxelMap voxels;
-    std::once_flag grid_once;
     PointGrid grid;
     double prepare_seconds = 0;
     // Lazy part: the kd-tree and the geometry's storage, built by the first query that needs
@@ -35,10 +34,6 @@ struct PriorMap::Impl {
     std::optional<Vec3f> viewpoint;
 
     void buildTree();
-    const PointGrid& buildGrid() {
-        std::call_once(grid_once, [this] { grid = PointGrid(points, params.grid_cell); });
-        return grid;
-    }
     const PointGeometry& ensureGeometry(size_t i);
     PointGeometry computeGeometry(size_t i) const;
 };
@@ -101,8 +96,16 @@ PriorMap::PriorMap(
         io::dropNonFinite(clean);
         filtered = voxelDownsample(clean, static_cast<float>(params.voxel_size));
     }
-    impl_->points = std::move(filtered.points);
-    impl_->given_normals = std::move(filtered.normals);
+    // The points in the point grid's cell order, so that each cell's points are contiguous (the
+    // grid then holds no per-point index: PointGrid).
+    const std::vector<uint32_t> order = PointGrid::cellOrder(filtered.points, params.grid_cell);
+    impl_->points.resize(order.size());
+    for (size_t j = 0; j < order.size(); ++j) impl_->points[j] = filtered.points[order[j]];
+    if (filtered.normals.size() == order.size()) {
+        impl_->given_normals.resize(order.size());
+        for (size_t j = 0; j < order.size(); ++j) impl_->given_normals[j] = filtered.normals[order[j]];
+    }
+    impl_->grid = PointGrid(impl_->points, params.grid_cell);
     impl_->viewpoint = viewpoint;
     impl_->voxels = VoxelMap(impl_->points, params.voxelMapParams());
     // After the viewpoint and the given normals: they orient each point's normal.
@@ -123,7 +126,6 @@ double PriorMap::prepareGeometry(unsigned threads) const {
     mrpt::system::CTicTac timer;
     Impl& m = *impl_;
     m.buildTree();
-    m.buildGrid();
     const size_t n = m.points.size();
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     // Blocks of consecutive points (neighbours in the voxel filter's order share cache lines),
@@ -158,7 +160,7 @@ const PointGeometry& PriorMap::geometry(size_t i) const {
     return impl_->ensureGeometry(i);
 }
 const VoxelMap& PriorMap::voxels() const { return impl_->voxels; }
-const PointGrid& PriorMap::grid() const { return impl_->buildGrid(); }
+const PointGrid& PriorMap::grid() const { return impl_->grid; }
 double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
 
 size_t PriorMap::memoryBytes() const {

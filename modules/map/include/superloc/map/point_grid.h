@@ -4,9 +4,11 @@
 // Cells of edge `cell`; each cell's points are stored contiguously (the points sorted by cell),
 // found by one hash probe. A query visits the cell containing it, then those of its 26
 // neighbours whose box is nearer than the best point found so far: the exact nearest map point
-// whenever one is within `cell`, and never more than 27 cells, whatever the map's size. Built in
-// time and memory linear in the points: 4 bytes per point (its index, in cell order) and 16 per
-// occupied cell. The points themselves are the caller's (PriorMap's), read in place.
+// whenever one is within `cell`, and never more than 27 cells, whatever the map's size. The
+// points themselves are the caller's, read in place: given in cell order (cellOrder(), as
+// PriorMap keeps its points) a cell's points are contiguous in memory and the grid holds 16 bytes
+// per occupied cell only; in any other order it also keeps their indices in cell order (4 bytes
+// per point).
 #pragma once
 
 #include <superloc/core/types.h>
@@ -26,6 +28,10 @@ class PointGrid {
     /// A grid over `points`, which must outlive it unchanged (they are read in place). Throws
     /// std::invalid_argument when `cell` is not > 0.
     PointGrid(const std::vector<Vec3f>& points, double cell);
+
+    /// The permutation that sorts `points` by cell of edge `cell` (within a cell, by index; points
+    /// outside the grid's range or not finite last).
+    static std::vector<uint32_t> cellOrder(const std::vector<Vec3f>& points, double cell);
 
     double cell() const { return cell_; }
     /// The nearest point to q within max_dist (clamped to cell()): its index in the points given
@@ -54,7 +60,7 @@ class PointGrid {
     uint64_t mask_ = 0;
     size_t count_ = 0;
     const std::vector<Vec3f>* pts_ = nullptr;  ///< the constructor's points
-    std::vector<uint32_t> index_;              ///< indices into them, sorted by cell
+    std::vector<uint32_t> index_;              ///< indices into them, sorted by cell (empty: in cell order already)
 };
 
 }  // namespace superloc::map

@@ -1,8 +1,8 @@
-// The prior map: voxelized map points and the multi-resolution voxel map registration uses
-// (built at load). A kd-tree is built by the first nearest-neighbour query, the fine hash grid of
-// the bounded queries (PointGrid) by the first bounded query; each point's normal, planarity,
-// linearity and fit residual are computed by the first query of that point (all three at load
-// with MapParams::geometry_at_load).
+// The prior map: voxelized map points, the multi-resolution voxel map registration uses
+// and the fine hash grid of bounded queries (PointGrid; the points are kept in its cell order),
+// both built at load. A kd-tree is built by the first nearest-neighbour query; each point's
+// normal, planarity, linearity and fit residual are computed by the first query of that point
+// (both at load with MapParams::geometry_at_load).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
@@ -85,19 +85,21 @@ class PriorMap {
     static PriorMap load(const std::string& path, const MapParams& params);
 
     size_t size() const;
+    /// The voxel-filtered points in the point grid's cell order (PointGrid::cellOrder): with
+    /// voxel_size 0, the given cloud's finite points permuted by cellOrder(them, grid_cell).
     const std::vector<Vec3f>& points() const;
     const Vec3f& point(size_t i) const;
     /// Per-point PCA geometry (normal_k neighbours within normal_max_radius), computed by the
     /// first call for that point; thread-safe. Throws std::out_of_range for a bad index.
     const PointGeometry& geometry(size_t i) const;
-    /// Builds the kd-tree and the point grid and computes every point's geometry now, on `threads` threads (0: one
+    /// Builds the kd-tree and computes every point's geometry now, on `threads` threads (0: one
     /// per core), so that no later query pays for it. The same values as computed on first use.
     /// Returns the seconds it took.
     double prepareGeometry(unsigned threads = 0) const;
     /// The registration map (association of the localizer).
     const VoxelMap& voxels() const;
-    /// The fine hash grid of bounded nearest-neighbour queries (MapParams::grid_cell), built by
-    /// the first call (at load with geometry_at_load); thread-safe.
+    /// The fine hash grid of bounded nearest-neighbour queries (MapParams::grid_cell), built at
+    /// load (the points are stored in its cell order); thread-safe.
     const PointGrid& grid() const;
 
     /// k nearest map points to q (fewer if the map is smaller); thread-safe. The first call
