@@ -191,6 +191,10 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         const Vec3d x = R * pts_body[i] + t;
         const Vec3f xf = x.cast<float>();
         const map::VoxelStats* v = vm.levels() > 0 ? vm.find(0, xf) : nullptr;
+        // Where the finest voxel is too sparse for a plane (an open field's terrain, a map built
+        // at 0.2 m), the twice as large voxel around it, validated the same way (the absolute
+        // thickness keeps it off steps and clutter).
+        if ((!v || v->count < static_cast<float>(p.plane_min_points)) && vm.levels() > 1) v = vm.find(1, xf);
         if (v && voxelPlane(pts_body[i], x, *v, p, c)) {
             ++stats.plane;
             ++stats.voxel_planes;

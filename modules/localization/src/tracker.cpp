@@ -111,8 +111,11 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
     // A frame predicted from a motion the last frame confirmed may end its annealing early
-    // (prediction_confirmed_ is false with settle_xyz = 0).
-    const bool may_settle = prediction_confirmed_ && !velocity_unknown && !rep.motion_from_scan;
+    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_unconfirmed every tracked
+    // frame may, the motion measured against the last scan too (never a wide start).
+    const bool confirmed = params_.loc.settle_unconfirmed ? params_.loc.settle_xyz > 0 && params_.loc.settle_deg > 0
+                                                          : prediction_confirmed_ && !rep.motion_from_scan;
+    const bool may_settle = confirmed && !velocity_unknown;
     trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);
