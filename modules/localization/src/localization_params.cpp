@@ -73,7 +73,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_xyz, "[m] tracked frame: a round's update below this (and settle_deg) ends the kernel's annealing; 0: off");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_deg, "[deg] ...and the rotation update below");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_unconfirmed, "every tracked frame may settle (also unconfirmed predictions, motions from the last scan)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_unconfirmed, "tracked frame after a sound one may settle unconfirmed (motion from the last scan, prediction off)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(inlier_dist, "[m] feature residual below: inlier");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");

@@ -111,11 +111,12 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
     // A frame predicted from a motion the last frame confirmed may end its annealing early
-    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_unconfirmed every tracked
-    // frame may, the motion measured against the last scan too (never a wide start).
-    const bool confirmed = params_.loc.settle_unconfirmed ? params_.loc.settle_xyz > 0 && params_.loc.settle_deg > 0
-                                                          : prediction_confirmed_ && !rep.motion_from_scan;
-    const bool may_settle = confirmed && !velocity_unknown;
+    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_unconfirmed also one whose
+    // last frame was tracked to a sound end, its motion measured against that frame's scan or
+    // predicted less well than settle_xyz (never after the first frame or a wide start: a small
+    // first step after a doubtful start does not mean the start was right, doc/localizer.md).
+    const bool sound = params_.loc.settle_unconfirmed && last_sound_ && params_.loc.settle_xyz > 0;
+    const bool may_settle = ((prediction_confirmed_ && !rep.motion_from_scan) || sound) && !velocity_unknown;
     trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);
@@ -328,6 +329,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     prev_marginal_ = own_solve ? sol.marginal : std::nullopt;
     // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
     const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
+    last_sound_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start;
     prediction_confirmed_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start &&
                             !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
                             rep.pred_ddeg < params_.loc.settle_deg;

@@ -52,10 +52,10 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// round down to the floor
     double settle_xyz = 0.05;          ///< [m]
     double settle_deg = 0.5;           ///< [deg]
-    /// Every tracked frame may settle as above, also where the last frame did not confirm the
-    /// prediction and after a motion measured against the last scan (not a wide start, not a
-    /// search's hypothesis): its rounds stop once converged at the kernel's floor instead of
-    /// running all `rounds` (doc/localizer.md step 5); false: only confirmed predictions settle
+    /// A tracked frame may settle as above also where its prediction was not confirmed (a motion
+    /// measured against the last scan, a prediction off by more than settle_xyz), provided the
+    /// last frame was tracked to a converged `ok` end and was neither the first frame nor a wide
+    /// start (doc/localizer.md step 5); false: only confirmed predictions settle
     bool settle_unconfirmed = true;
 
     // Divergence detection (reported per frame, the run goes on)
