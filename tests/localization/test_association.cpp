@@ -230,9 +230,9 @@ TEST(PlanesAssociation, FlatVoxelGivesItsPlaneSteppedVoxelFallsBackToTheTread) {
     map::MapParams mp;
     mp.voxel_size = 0;
     const map::PriorMap m(floorWithStep(), mp, Vec3f(0, 0, 2));
-    // On the flat floor (voxel [-0.5, 0)), on the lower tread inside the stepped voxel, and 0.7 m
-    // above the floor (nothing within the grid's 0.5 m: none, though `nearest` takes the floor).
-    const std::vector<Vec3d> pts = {Vec3d(-0.3, 0.2, 0.12), Vec3d(0.15, 0.2, 0.11), Vec3d(-0.3, 0.2, 0.8)};
+    // On the flat floor (voxel [-0.5, 0)), on the lower tread inside the stepped voxel, and 1.15 m
+    // above the floor (beyond max_dist, 1 m: none, from the grid's 125 cells as from the kd-tree).
+    const std::vector<Vec3d> pts = {Vec3d(-0.3, 0.2, 0.12), Vec3d(0.15, 0.2, 0.11), Vec3d(-0.3, 0.2, 1.25)};
     AssociationParams ap;  // the default: planes
     ASSERT_EQ(ap.kind, AssociationKind::Planes);
     std::vector<Correspondence> corr;
@@ -258,10 +258,21 @@ TEST(PlanesAssociation, FlatVoxelGivesItsPlaneSteppedVoxelFallsBackToTheTread) {
     EXPECT_NEAR(std::abs(corr[1].n.z()), 1.0, 1e-3);
     EXPECT_NEAR(corr[1].q.z(), 0.1, 1e-6);
     EXPECT_NEAR(fusion::correspondenceError(corr[1], SE3d::Identity()), 0.01, 1e-3);
+    // 0.7 m above the floor: within max_dist, found in the grid's second ring of cells.
+    std::vector<Correspondence> up;
+    associate({Vec3d(-0.3, 0.2, 0.8)}, SE3d::Identity(), m, ap, up, st);
+    ASSERT_EQ(up.size(), 1u);
+    EXPECT_NEAR(fusion::correspondenceError(up[0], SE3d::Identity()), 0.7, 1e-3);
+    ap.max_dist = 0.5;  // the bound: nothing within it, none
+    associate({Vec3d(-0.3, 0.2, 0.8)}, SE3d::Identity(), m, ap, up, st);
+    EXPECT_TRUE(up.empty());
+    EXPECT_EQ(st.too_far, 1u);
+    ap.max_dist = 1.0;
     std::vector<Correspondence> nn;
     ap.kind = AssociationKind::Nearest;
     associate(pts, SE3d::Identity(), m, ap, nn, st);
-    ASSERT_EQ(nn.size(), 3u);  // the kd-tree reaches the floor 0.7 m below
+    ASSERT_EQ(nn.size(), 2u);
+    EXPECT_EQ(st.too_far, 1u);
     EXPECT_NEAR((nn[1].q - corr[1].q).norm(), 0.0, 1e-9);
     EXPECT_NEAR(nn[1].n.dot(corr[1].n), 1.0, 1e-9);
 }
@@ -332,4 +343,35 @@ TEST(PlanesAssociation, AnswersLikeNearestInABoxRoom) {
         ++compared;
     }
     EXPECT_GT(compared, pts.size() * 9 / 10);
+}
+
+TEST(PlanesAssociation, ASurfaceBeyondTheVoxelsFaceIsNotHiddenByItsPlane) {
+    // A floor (z = 0.1) and a wall standing exactly on a voxel face (x = 0.5): the voxel
+    // [0, 0.5)^3 holds the floor alone, thin and valid. A feature 2 cm off the wall, 20 cm above
+    // the floor, sits in that voxel: its surface is the wall beyond the face (2 cm), not the
+    // floor's plane (20 cm), as the kd-tree says.
+    PointCloud c;
+    for (int i = 0; i < 80; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
+            if (x < 0.5f) c.points.emplace_back(x, y, 0.1f);
+        }
+    for (int k = 0; k < 40; ++k)
+        for (int j = 0; j < 80; ++j) c.points.emplace_back(0.5f, -1.0f + 0.025f * j + 0.0125f, 0.1125f + 0.025f * k);
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const map::PriorMap m(c, mp, Vec3f(0, 0, 1));
+    const std::vector<Vec3d> pts = {Vec3d(0.48, 0.2, 0.3), Vec3d(0.2, 0.2, 0.12)};
+    AssociationParams ap;
+    std::vector<Correspondence> planes, nearest;
+    AssociationStats st;
+    associate(pts, SE3d::Identity(), m, ap, planes, st);
+    ASSERT_EQ(planes.size(), 2u);
+    EXPECT_EQ(st.voxel_planes, 1u);  // the floor feature only
+    EXPECT_NEAR(std::abs(planes[0].n.x()), 1.0, 1e-3);
+    EXPECT_NEAR(fusion::correspondenceError(planes[0], SE3d::Identity()), 0.02, 1e-3);
+    ap.kind = AssociationKind::Nearest;
+    associate(pts, SE3d::Identity(), m, ap, nearest, st);
+    ASSERT_EQ(nearest.size(), 2u);
+    EXPECT_NEAR(nearest[0].n.dot(planes[0].n), 1.0, 1e-9);
 }

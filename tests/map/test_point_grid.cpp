@@ -18,18 +18,18 @@ std::vector<Vec3f> randomPoints(size_t n, unsigned seed) {
 }
 }  // namespace
 
-TEST(PointGrid, NearestWithinTheCellIsTheBruteForceNearest) {
+TEST(PointGrid, NearestWithinTwoCellsIsTheBruteForceNearest) {
     const std::vector<Vec3f> pts = randomPoints(3000, 1);
     const PointGrid grid(pts, 0.5);
     EXPECT_GT(grid.cells(), 100u);
     std::mt19937 rng(2);
-    std::uniform_real_distribution<float> U(-3.5f, 3.5f);
+    std::uniform_real_distribution<float> U(-4.5f, 4.5f);
     int found = 0, none = 0;
     for (int q = 0; q < 2000; ++q) {
         const Vec3f x(U(rng), U(rng), U(rng));
         float best_d2 = 1e30f;
         for (const Vec3f& p : pts) best_d2 = std::min(best_d2, (p - x).squaredNorm());
-        for (const float r : {0.5f, 0.3f}) {
+        for (const float r : {0.5f, 0.3f, 0.8f, 1.0f}) {
             const auto [j, d2] = grid.nearest(x, r);
             if (best_d2 <= r * r) {
                 ASSERT_NE(j, PointGrid::kNone) << x.transpose();
@@ -41,9 +41,9 @@ TEST(PointGrid, NearestWithinTheCellIsTheBruteForceNearest) {
                 ++none;
             }
         }
-        // A radius beyond the cell is clamped to it: never a point farther than the cell.
+        // A radius beyond two cells is clamped to them: never a point farther than 1 m.
         const auto [j, d2] = grid.nearest(x, 5.0f);
-        if (best_d2 > 0.25f) EXPECT_EQ(j, PointGrid::kNone);
+        if (best_d2 > 1.0f) EXPECT_EQ(j, PointGrid::kNone);
         else EXPECT_FLOAT_EQ(d2, best_d2);
     }
     EXPECT_GT(found, 500);
@@ -59,15 +59,17 @@ TEST(PointGrid, KnnIsTheBruteForceKnnWithinTheRadius) {
     std::vector<float> d2;
     for (int q = 0; q < 300; ++q) {
         const Vec3f x(U(rng), U(rng), 0.5f * U(rng));
-        std::vector<float> all;
-        for (const auto& p : pts)
-            if ((p - x).squaredNorm() <= 0.25f) all.push_back((p - x).squaredNorm());
-        std::sort(all.begin(), all.end());
-        grid.knn(x, 6, 0.5f, idx, d2);
-        ASSERT_EQ(idx.size(), std::min<size_t>(6, all.size()));
-        for (size_t k = 0; k < idx.size(); ++k) {
-            EXPECT_FLOAT_EQ(d2[k], all[k]);
-            EXPECT_FLOAT_EQ((pts[idx[k]] - x).squaredNorm(), d2[k]);
+        for (const float r : {0.5f, 0.9f}) {
+            std::vector<float> all;
+            for (const auto& p : pts)
+                if ((p - x).squaredNorm() <= r * r) all.push_back((p - x).squaredNorm());
+            std::sort(all.begin(), all.end());
+            grid.knn(x, 6, r, idx, d2);
+            ASSERT_EQ(idx.size(), std::min<size_t>(6, all.size()));
+            for (size_t k = 0; k < idx.size(); ++k) {
+                EXPECT_FLOAT_EQ(d2[k], all[k]);
+                EXPECT_FLOAT_EQ((pts[idx[k]] - x).squaredNorm(), d2[k]);
+            }
         }
     }
 }

@@ -147,17 +147,30 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     }
 }
 
-/// planes: whether the voxel v's plane is the feature at x's surface (AssociationParams: enough
-/// points, an absolute thickness, not a line, x inside the points' footprint and near the plane);
-/// then c is that point-to-plane correspondence.
-bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, const AssociationParams& p,
-                Correspondence& c) {
+/// [m] Distance from x to the nearest face of its voxel of edge `size`.
+double faceDistance(const Vec3d& x, double size) {
+    double d = size;
+    for (int k = 0; k < 3; ++k) {
+        const double f = x[k] / size - std::floor(x[k] / size);
+        d = std::min(d, size * std::min(f, 1.0 - f));
+    }
+    return d;
+}
+
+/// planes: whether the voxel v (of edge `size`) is the feature at x's surface (AssociationParams:
+/// enough points, an absolute thickness, not a line, x inside the points' footprint and near the
+/// plane); then c is that point-to-plane correspondence. "Near" is also nearer than any face of
+/// the voxel: a surface beyond a face (a wall whose points fall in the next voxel) is then
+/// farther than this plane, so the plane is the one `nearest` would find.
+bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, double size,
+                const AssociationParams& p, Correspondence& c) {
     if (v.count < static_cast<float>(p.plane_min_points) || !(v.thickness <= p.plane_thickness) ||
         !(v.spread_minor >= p.plane_min_spread))
         return false;
     const Vec3d n = v.normal.cast<double>(), u = v.direction.cast<double>();
     const Vec3d e = x - v.mean.cast<double>();
-    if (!(std::abs(n.dot(e)) <= p.plane_gate)) return false;
+    const double dist = std::abs(n.dot(e));
+    if (!(dist <= p.plane_gate) || dist > faceDistance(x, size)) return false;
     // The footprint: within plane_footprint RMS spreads of the centroid along both in-plane axes.
     if (std::abs(u.dot(e)) > p.plane_footprint * v.spread_major ||
         std::abs(n.cross(u).dot(e)) > p.plane_footprint * v.spread_minor)
@@ -175,11 +188,12 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                      const AssociationParams& p, std::vector<Correspondence>& out, AssociationStats& stats,
                      std::vector<uint32_t>* feature_of) {
     // The finest voxel's plane where it is validated (one hash probe), else the nearest map point
-    // within the grid's cell (27 cells at most) and its precomputed geometry: nothing unbounded.
+    // within max_dist (at most two grid cells: 27 cells, 125 when nothing is within one) and its
+    // precomputed geometry: nothing unbounded.
     if (map.size() == 0) return;
     const map::VoxelMap& vm = map.voxels();
     const map::PointGrid& grid = map.grid();
-    const float radius = static_cast<float>(std::min(p.max_dist, grid.cell()));
+    const float radius = static_cast<float>(std::min(p.max_dist, 2 * grid.cell()));
     const Mat3d R = T_map_body.linear();
     const Vec3d t = T_map_body.translation();
     const auto knn = [&grid, radius](const Vec3f& q, size_t k, map::Neighbors& nb) {
@@ -191,11 +205,12 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         const Vec3d x = R * pts_body[i] + t;
         const Vec3f xf = x.cast<float>();
         const map::VoxelStats* v = vm.levels() > 0 ? vm.find(0, xf) : nullptr;
+        int level = 0;
         // Where the finest voxel is too sparse for a plane (an open field's terrain, a map built
         // at 0.2 m), the twice as large voxel around it, validated the same way (the absolute
         // thickness keeps it off steps and clutter).
-        if ((!v || v->count < static_cast<float>(p.plane_min_points)) && vm.levels() > 1) v = vm.find(1, xf);
-        if (v && voxelPlane(pts_body[i], x, *v, p, c)) {
+        if ((!v || v->count < static_cast<float>(p.plane_min_points)) && vm.levels() > 1) v = vm.find(level = 1, xf);
+        if (v && voxelPlane(pts_body[i], x, *v, vm.levelSize(level), p, c)) {
             ++stats.plane;
             ++stats.voxel_planes;
             keep(c, i, out, feature_of);

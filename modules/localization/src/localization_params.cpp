@@ -45,7 +45,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(converged_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(settle_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(settle_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(settle_unconfirmed, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(settle_after_scan, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(inlier_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(min_inlier_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_jump_xyz, double, c, s);
@@ -73,7 +73,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_xyz, "[m] tracked frame: a round's update below this (and settle_deg) ends the kernel's annealing; 0: off");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_deg, "[deg] ...and the rotation update below");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_unconfirmed, "tracked frame after a sound one may settle unconfirmed (motion from the last scan, prediction off)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_after_scan, "no IMU: a frame whose motion the last (sound) scan measured may settle too");
     MRPT_SAVE_CONFIG_VAR_COMMENT(inlier_dist, "[m] feature residual below: inlier");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");

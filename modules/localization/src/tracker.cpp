@@ -111,12 +111,13 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
     // A frame predicted from a motion the last frame confirmed may end its annealing early
-    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_unconfirmed also one whose
-    // last frame was tracked to a sound end, its motion measured against that frame's scan or
-    // predicted less well than settle_xyz (never after the first frame or a wide start: a small
-    // first step after a doubtful start does not mean the start was right, doc/localizer.md).
-    const bool sound = params_.loc.settle_unconfirmed && last_sound_ && params_.loc.settle_xyz > 0;
-    const bool may_settle = ((prediction_confirmed_ && !rep.motion_from_scan) || sound) && !velocity_unknown;
+    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_after_scan also one whose
+    // motion was measured against the last scan, when that frame was tracked to a sound end
+    // (never after the first frame or a wide start: a small first step after a doubtful start
+    // does not mean the start was right, doc/localizer.md).
+    const bool after_scan =
+        params_.loc.settle_after_scan && rep.motion_from_scan && last_sound_ && params_.loc.settle_xyz > 0;
+    const bool may_settle = ((prediction_confirmed_ && !rep.motion_from_scan) || after_scan) && !velocity_unknown;
     trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);

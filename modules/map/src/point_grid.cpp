@@ -13,20 +13,24 @@ namespace superloc::map {
 namespace {
 constexpr float kMaxIndex = float(1 << 20) - 4;  // packVoxelIndices is exact within +-2^20
 
-/// The 26 neighbour offsets, faces first, then edges, then corners: the nearer boxes first, so
-/// that the best distance shrinks early and prunes the far ones.
-const std::array<std::array<int, 3>, 26>& neighbourOffsets() {
-    static const std::array<std::array<int, 3>, 26> offsets = [] {
-        std::array<std::array<int, 3>, 26> o{};
-        size_t n = 0;
-        for (int nonzero = 1; nonzero <= 3; ++nonzero)
-            for (int dx = -1; dx <= 1; ++dx)
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dz = -1; dz <= 1; ++dz)
-                        if ((dx != 0) + (dy != 0) + (dz != 0) == nonzero) o[n++] = {dx, dy, dz};
-        return o;
-    }();
-    return offsets;
+/// The offsets of the cells `ring` cells away (the 26 around a cell for ring 1, the 98 around
+/// those for ring 2), those sharing a face with the inner cells first, then edges, then corners:
+/// the nearer boxes first, so that the best distance shrinks early and prunes the far ones.
+std::vector<std::array<int, 3>> ringOffsets(int ring) {
+    std::vector<std::array<int, 3>> o;
+    for (int nonzero = 1; nonzero <= 3; ++nonzero)
+        for (int dx = -ring; dx <= ring; ++dx)
+            for (int dy = -ring; dy <= ring; ++dy)
+                for (int dz = -ring; dz <= ring; ++dz) {
+                    const int m = std::max({std::abs(dx), std::abs(dy), std::abs(dz)});
+                    const int far = (std::abs(dx) == ring) + (std::abs(dy) == ring) + (std::abs(dz) == ring);
+                    if (m == ring && far == nonzero) o.push_back({dx, dy, dz});
+                }
+    return o;
+}
+const std::vector<std::array<int, 3>>& neighbourOffsets(int ring) {
+    static const std::vector<std::array<int, 3>> one = ringOffsets(1), two = ringOffsets(2);
+    return ring == 1 ? one : two;
 }
 }  // namespace
 
@@ -92,37 +96,50 @@ const PointGrid::Slot* PointGrid::find(int64_t x, int64_t y, int64_t z) const {
 }
 
 template <class Visit, class Bound>
-void PointGrid::forCells(const Vec3f& q, Visit&& visit, Bound&& bound) const {
+void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const {
     if (table_.empty()) return;
     const Vec3f s = q * inv_;
-    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex) return;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return;
     const int64_t c[3] = {floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())};
     // Distance [m] from q to the lower and the upper face of its cell, per axis.
+    const float edge = static_cast<float>(cell_);
     float lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
         const float f = s[k] - static_cast<float>(c[k]);
-        lo[k] = f * static_cast<float>(cell_);
-        hi[k] = (1.0f - f) * static_cast<float>(cell_);
+        lo[k] = f * edge;
+        hi[k] = (1.0f - f) * edge;
     }
     if (const Slot* own = find(c[0], c[1], c[2])) visit(own->begin, own->end);
-    for (const auto& o : neighbourOffsets()) {
-        float box = 0;  // squared distance from q to the neighbour's box
-        for (int k = 0; k < 3; ++k) {
-            const float d = o[k] < 0 ? lo[k] : (o[k] > 0 ? hi[k] : 0.0f);
-            box += d * d;
+    for (int ring = 1; ring <= rings; ++ring)
+        for (const auto& o : neighbourOffsets(ring)) {
+            float box = 0;  // squared distance from q to the cell's box
+            for (int k = 0; k < 3; ++k) {
+                const int a = std::abs(o[k]);
+                const float d = a == 0 ? 0.0f : (o[k] < 0 ? lo[k] : hi[k]) + static_cast<float>(a - 1) * edge;
+                box += d * d;
+            }
+            if (box >= bound()) continue;
+            if (const Slot* n = find(c[0] + o[0], c[1] + o[1], c[2] + o[2])) visit(n->begin, n->end);
         }
-        if (box >= bound()) continue;
-        if (const Slot* n = find(c[0] + o[0], c[1] + o[1], c[2] + o[2])) visit(n->begin, n->end);
-    }
 }
 
+namespace {
+/// Rings of cells a search of radius r needs (1 or 2), and r clamped to what they cover.
+int ringsFor(float& r, double cell) {
+    const float edge = static_cast<float>(cell);
+    r = std::min(r, 2.0f * edge);
+    return r > edge ? 2 : 1;
+}
+}  // namespace
+
 std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist) const {
-    const float r = std::min(max_dist, static_cast<float>(cell_));
+    float r = max_dist;
+    const int rings = ringsFor(r, cell_);
     float best = r * r;
     uint32_t best_i = kNone;
     const std::vector<Vec3f>& pts = *pts_;
     forCells(
-        q,
+        q, rings,
         [&](uint32_t b, uint32_t e) {
             if (index_.empty()) {
                 for (uint32_t i = b; i < e; ++i) {
@@ -147,14 +164,15 @@ void PointGrid::knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32
     idx.clear();
     sq_dists.clear();
     if (k == 0) return;
-    const float r = std::min(max_dist, static_cast<float>(cell_));
+    float r = max_dist;
+    const int rings = ringsFor(r, cell_);
     const float r2 = r * r;
     // Sorted, at most k: (squared distance, point index).
     std::vector<std::pair<float, uint32_t>> best;
     best.reserve(k + 1);
     const std::vector<Vec3f>& pts = *pts_;
     forCells(
-        q,
+        q, rings,
         [&](uint32_t b, uint32_t e) {
             for (uint32_t j = b; j < e; ++j) {
                 const uint32_t i = index_.empty() ? j : index_[j];

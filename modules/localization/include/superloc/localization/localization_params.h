@@ -52,11 +52,11 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// round down to the floor
     double settle_xyz = 0.05;          ///< [m]
     double settle_deg = 0.5;           ///< [deg]
-    /// A tracked frame may settle as above also where its prediction was not confirmed (a motion
-    /// measured against the last scan, a prediction off by more than settle_xyz), provided the
-    /// last frame was tracked to a converged `ok` end and was neither the first frame nor a wide
-    /// start (doc/localizer.md step 5); false: only confirmed predictions settle
-    bool settle_unconfirmed = true;
+    /// Without IMU, a frame whose motion was measured against the last scan may settle as above
+    /// too, provided the last frame was tracked to a converged `ok` end and was neither the
+    /// first frame nor a wide start (doc/localizer.md step 5); false: only frames whose motion
+    /// prediction the last frame confirmed settle
+    bool settle_after_scan = true;
 
     // Divergence detection (reported per frame, the run goes on)
     double inlier_dist = 0.2;          ///< [m] a feature is an inlier when its residual is below

@@ -137,7 +137,7 @@ class Tracker {
     /// frame's solve may settle (RegistrationProblem::may_settle)
     bool prediction_confirmed_ = false;
     /// The last frame was tracked to a converged, `ok` end, not the first and not a wide start
-    /// (its prediction need not have been confirmed): with settle_unconfirmed the next frame's
+    /// (its prediction need not have been confirmed): with settle_after_scan the next frame's
     /// solve may settle
     bool last_sound_ = false;
     fusion::FrameState prev_;

@@ -2,9 +2,11 @@
 // fallback (doc/map.md, "The planes association").
 //
 // Cells of edge `cell`; each cell's points are stored contiguously (the points sorted by cell),
-// found by one hash probe. A query visits the cell containing it, then those of its 26
-// neighbours whose box is nearer than the best point found so far: the exact nearest map point
-// whenever one is within `cell`, and never more than 27 cells, whatever the map's size. The
+// found by one hash probe. A query of radius r <= cell visits the cell containing it, then those
+// of its 26 neighbours whose box is nearer than the best point found so far; a radius up to
+// 2 cell also the 98 cells around those, again only where a box is nearer than the best point
+// (so only when nothing was found within about a cell). The exact nearest point within r, and
+// never more than 27 (r <= cell) or 125 cells, whatever the map's size. The
 // points themselves are the caller's, read in place: given in cell order (cellOrder(), as
 // PriorMap keeps its points) a cell's points are contiguous in memory and the grid holds 16 bytes
 // per occupied cell only; in any other order it also keeps their indices in cell order (4 bytes
@@ -34,10 +36,10 @@ class PointGrid {
     static std::vector<uint32_t> cellOrder(const std::vector<Vec3f>& points, double cell);
 
     double cell() const { return cell_; }
-    /// The nearest point to q within max_dist (clamped to cell()): its index in the points given
-    /// to the constructor and its squared distance; {kNone, inf} when there is none.
+    /// The nearest point to q within max_dist (clamped to 2 cell()): its index in the points
+    /// given to the constructor and its squared distance; {kNone, inf} when there is none.
     std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist) const;
-    /// Up to k points within max_dist (clamped to cell()) of q, nearest first.
+    /// Up to k points within max_dist (clamped to 2 cell()) of q, nearest first.
     void knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx, std::vector<float>& sq_dists) const;
     /// Cells holding at least one point.
     size_t cells() const { return count_; }
@@ -49,10 +51,10 @@ class PointGrid {
         uint32_t begin = 0, end = 0;  ///< range of pts_ / index_
     };
     const Slot* find(int64_t x, int64_t y, int64_t z) const;
-    /// Calls visit(begin, end) for the query's own cell, then for each neighbour whose box is
-    /// nearer than bound() (squared), which the visits may shrink.
+    /// Calls visit(begin, end) for the query's own cell, then for each cell up to `rings` (1 or
+    /// 2) cells away whose box is nearer than bound() (squared), which the visits may shrink.
     template <class Visit, class Bound>
-    void forCells(const Vec3f& q, Visit&& visit, Bound&& bound) const;
+    void forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const;
 
     double cell_ = 0;
     float inv_ = 0;
