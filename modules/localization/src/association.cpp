@@ -160,9 +160,8 @@ double faceDistance(const Vec3d& x, double size) {
 /// planes: whether the voxel v (of edge `size`) is the feature at x's surface (AssociationParams:
 /// enough points, an absolute thickness, not a line, x inside the points' footprint and near the
 /// plane); then c is that point-to-plane correspondence. "Near" is also nearer than any face of
-/// the voxel (or within the plane's thickness bound of it): a surface beyond a face (a wall whose
-/// points fall in the next voxel) is then farther than this plane, so the plane is the one
-/// `nearest` would find.
+/// the voxel: a surface beyond a face (a wall whose points fall in the next voxel) is then
+/// farther than this plane, so the plane is the one `nearest` would find.
 bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, double size,
                 const AssociationParams& p, Correspondence& c) {
     if (v.count < static_cast<float>(p.plane_min_points) || !(v.thickness <= p.plane_thickness) ||
@@ -171,7 +170,7 @@ bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, d
     const Vec3d n = v.normal.cast<double>(), u = v.direction.cast<double>();
     const Vec3d e = x - v.mean.cast<double>();
     const double dist = std::abs(n.dot(e));
-    if (!(dist <= p.plane_gate) || dist > std::max(faceDistance(x, size), p.plane_thickness)) return false;
+    if (!(dist <= p.plane_gate) || dist > faceDistance(x, size)) return false;
     // The footprint: within plane_footprint RMS spreads of the centroid along both in-plane axes.
     if (std::abs(u.dot(e)) > p.plane_footprint * v.spread_major ||
         std::abs(n.cross(u).dot(e)) > p.plane_footprint * v.spread_minor)
