@@ -32,7 +32,7 @@ void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_radius, "[m] tiled map: tiles within this x-y distance of the robot are loaded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_reload, "[m] tiled map: reload around the robot after moving this far");
     MRPT_SAVE_CONFIG_VAR_COMMENT(geometry_at_load, "every point's geometry computed at load on all cores (else by its first query)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(grid_cell, "[m] point grid of the planes association's fallback: cell edge = search radius");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(grid_cell, "[m] point grid of the planes association's fallback: cell edge (search radius <= 2 edges)");
 }
 
 void MapParams::validate() const {

@@ -2,8 +2,8 @@
 // ways ([association] kind, doc/map.md):
 //  - planes (default): the finest voxel containing the feature (one hash probe) when its plane
 //    is validated (enough points, thinner than an absolute bound, the feature projecting inside
-//    the points' footprint and near the plane); otherwise the nearest map point within the
-//    map's grid_cell (PriorMap::grid, 27 cells at most) and that point's precomputed geometry,
+//    the points' footprint and near the plane); otherwise the nearest map point within max_dist
+//    (PriorMap::grid, 125 cells at most) and that point's precomputed geometry,
 //    as `nearest` uses it. No search is unbounded.
 //  - nearest: the nearest map point (kd-tree, unbounded) and its precomputed neighbourhood
 //    geometry decide a point-to-plane, -line or -point correspondence with a fit weight;

@@ -22,9 +22,9 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     // Association (paper §III-A, doc/localizer.md step 3): which one and its thresholds are
     // [association] (association_config.h); its reach, which the schedule and the covariance
     // also read, is here.
-    /// [m] no correspondence beyond this: nearest map point (nearest, planes: at most the map's
-    /// grid_cell), or voxel plane / line / centroid at the finest level, doubled per coarser
-    /// level (voxel)
+    /// [m] no correspondence beyond this: nearest map point (nearest; planes: at most twice the
+    /// map's grid_cell), or voxel plane / line / centroid at the finest level, doubled per
+    /// coarser level (voxel)
     double max_corr_dist = 1.0;
     double max_corr_dist_init = 3.0;   ///< [m] nearest, planes: the same, for the first rounds of a wide frame
     /// most association + solve rounds of a tracked frame (it stops earlier when settled)

@@ -38,7 +38,8 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     /// then pays for no map point's geometry (KITTI's reference split: 16 -> 9 ms a frame).
     bool geometry_at_load = true;
     /// [m] cell edge of the fine hash grid (PointGrid) the `planes` association's fallback
-    /// searches: the nearest map point within this distance, in 27 cells at most (doc/map.md)
+    /// searches: the nearest map point within this distance in 27 cells, within twice it in 125
+    /// at most (doc/map.md)
     double grid_cell = 0.5;
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
