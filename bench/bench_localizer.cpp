@@ -3,8 +3,9 @@
 // scans localized. One benchmark iteration = one frame through Localizer::process (prediction,
 // features, association, risk, solve), the odd scans cycled from the GT pose at the first odd
 // scan, each pass in a fresh copy of the prior map (cold, as one run of superloc-localize);
-// method=icp with the kd-tree association (default), with the voxel map
-// (association=voxel), with the hybrid (voxels, the kd-tree in voxels thicker than 3 cm:
+// method=icp with the planes association (default: validated voxel planes, else the nearest map
+// point in a bounded grid), with the kd-tree ([association] kind=nearest), with the voxel map
+// (kind=voxel), with the hybrid (voxels, the kd-tree in voxels thicker than 3 cm:
 // voxel_nearest_above) and method=ndt in the same run. Counter ate_m: RMSE of the frames timed. Custom counters give the median
 // and p95 per frame, the median per stage and of the first frames (first_ms: wide, with the
 // start check of doc/health.md) [ms]. Not a test: nothing here asserts timings.
@@ -120,7 +121,7 @@ LocalizerParams kittiParams(const std::string& method) {
 LocalizerParams voxelParams() {
     LocalizerParams p;
     p.loc.method = localization::Method::Icp;
-    p.loc.association = "voxel";
+    p.assoc.kind = localization::AssociationKind::Voxel;
     p.loc.rounds = 10;
     p.features.deskew = false;
     return p;
@@ -187,10 +188,16 @@ void BM_FrameIcpVoxel(benchmark::State& s) { BM_Frame(s, voxelParams(), kitti())
 /// `p` with the hybrid of doc/map.md: voxels, the kd-tree for features in finest voxels thicker
 /// than 3 cm.
 LocalizerParams hybrid(LocalizerParams p) {
-    p.loc.association = "voxel";
-    p.loc.voxel_nearest_above = 0.03;
+    p.assoc.kind = localization::AssociationKind::Voxel;
+    p.assoc.voxel_nearest_above = 0.03;
     return p;
 }
+/// `p` with the kd-tree association (the default before the planes association).
+LocalizerParams nearest(LocalizerParams p) {
+    p.assoc.kind = localization::AssociationKind::Nearest;
+    return p;
+}
+void BM_FrameIcpNearest(benchmark::State& s) { BM_Frame(s, nearest(kittiParams("icp")), kitti()); }
 void BM_FrameIcpHybrid(benchmark::State& s) { BM_Frame(s, hybrid(kittiParams("icp")), kitti()); }
 void BM_FrameNdt(benchmark::State& s) { BM_Frame(s, kittiParams("ndt"), kitti()); }
 /// The default settings with the data set's fact (the scans come undistorted: deskew off).
@@ -204,6 +211,7 @@ LocalizerParams campusParams(bool motion_from_last_scan) {
 void BM_FrameCampus(benchmark::State& s) { BM_Frame(s, campusParams(true), campus()); }
 void BM_FrameCampusVelocityAssumed(benchmark::State& s) { BM_Frame(s, campusParams(false), campus()); }
 void BM_FrameCampusHybrid(benchmark::State& s) { BM_Frame(s, hybrid(campusParams(true)), campus()); }
+void BM_FrameCampusNearest(benchmark::State& s) { BM_Frame(s, nearest(campusParams(true)), campus()); }
 
 /// One recovered frame (no IMU; the relocalization of doc/health.md): scans 0 and 1 tracked, then
 /// scan 2 with its points turned by 45 deg about the sensor's z axis, as if the car had turned
@@ -247,7 +255,8 @@ void BM_RecoveryFrame(benchmark::State& state) {
     state.counters["median_ms"] = eval::median(total);
 }
 
-/// The association step alone: 2000 features of scan 5 at its GT pose.
+/// The association step alone: 2000 features of scan 5 at its GT pose; Arg(0) nearest (kd-tree),
+/// Arg(1) planes (the default).
 void BM_Association(benchmark::State& state) {
     const SplitData* d = kitti();
     if (!d) {
@@ -265,6 +274,8 @@ void BM_Association(benchmark::State& state) {
     AssociationParams ap;
     ap.plane_max_thickness = 0.1;
     ap.point_weight = 0.1;
+    ap.kind = state.range(0) == 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
+    d->map->grid();  // built at load by the run (geometry_at_load)
     std::vector<Correspondence> corr;
     AssociationStats st;
     for (auto _ : state) {
@@ -324,11 +335,13 @@ BENCHMARK(BM_FrameIcp)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpNoStartCheck)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpVoxel)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameIcpHybrid)->Unit(benchmark::kMillisecond)->Iterations(160);
+BENCHMARK(BM_FrameIcpNearest)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_FrameNdt)->Unit(benchmark::kMillisecond)->Iterations(48);
 BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusHybrid)->Unit(benchmark::kMillisecond)->Iterations(52);
-BENCHMARK(BM_Association)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_FrameCampusNearest)->Unit(benchmark::kMillisecond)->Iterations(52);
+BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 BENCHMARK_MAIN();

@@ -106,8 +106,8 @@ void BM_Knn10(benchmark::State& state) {
 BENCHMARK(BM_Knn10)->Unit(benchmark::kMicrosecond);
 
 /// The same hall with state.range(0) points, for each association (state.range(1): 0 = nearest,
-/// the default: kd-tree and per-point geometry on first use; 1 = voxel, the registration voxel
-/// map). Counters: prepare_s_per_1M (PriorMap, plus for nearest the kd-tree the first query
+/// kd-tree and per-point geometry on first use; 1 = voxel, the registration voxel map; 2 =
+/// planes, the default: validated voxel planes, else the point grid and per-point geometry). Counters: prepare_s_per_1M (PriorMap, plus for nearest the kd-tree the first query
 /// builds), bytes_per_point (after the associations: points, voxel map, and for nearest the
 /// kd-tree and the geometry), first_assoc_ms (the first association: for nearest it computes the
 /// geometry of the points it touches), assoc_ms_2000 (median of 200 later associations of 2000
@@ -115,6 +115,7 @@ BENCHMARK(BM_Knn10)->Unit(benchmark::kMicrosecond);
 void BM_MapScale(benchmark::State& state) {
     const size_t n = static_cast<size_t>(state.range(0));
     const bool voxel = state.range(1) == 1;
+    const bool planes = state.range(1) == 2;
     const PointCloud cloud = hall(n);
     map::MapParams p;
     p.voxel_size = 0;
@@ -123,11 +124,13 @@ void BM_MapScale(benchmark::State& state) {
         const auto t0 = std::chrono::steady_clock::now();
         const map::PriorMap m(cloud, p);
         if (!voxel) m.nearest(Vec3f::Zero());  // builds the kd-tree
+        if (planes) m.grid();                    // builds the point grid
         const double prep = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         localization::AssociationParams ap;  // the thresholds timed before the defaults became the run's
         ap.plane_max_thickness = 0.1;
         ap.point_weight = 0.1;
-        ap.voxel = voxel;
+        ap.kind = voxel ? localization::AssociationKind::Voxel
+                        : (planes ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest);
         std::vector<Correspondence> corr;
         localization::AssociationStats st;
         const auto f0 = std::chrono::steady_clock::now();
@@ -143,7 +146,7 @@ void BM_MapScale(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_MapScale)
-    ->ArgsProduct({{100'000, 1'000'000, 10'000'000}, {0, 1}})
+    ->ArgsProduct({{100'000, 1'000'000, 10'000'000}, {0, 1, 2}})
     ->ArgNames({"points", "voxel"})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
@@ -174,6 +177,7 @@ void BM_TiledCity10M(benchmark::State& state) {
     localization::AssociationParams ap;  // the thresholds timed before the defaults became the run's
     ap.plane_max_thickness = 0.1;
     ap.point_weight = 0.1;
+    ap.kind = localization::AssociationKind::Nearest;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         const io::MapTileIndex index = io::writeMapTiles(city, 50.0, dir.string());

@@ -32,7 +32,7 @@ START=$(grep -v '^#' "$DATA/gt_velodyne_tum.txt" | sed -n 2p | awk '{
   printf "%.6f %.6f %.6f %.9f %.9f %.9f %.9f", $2+0.5, $3+0.5, $4+0.2, qx, qy, qz, qw }')
 $BIN/superloc-localize ini/localize.ini --rawlog "$OUT/kitti00-mini.rawlog" --set rawlog.scans=odd \
     --map "$OUT/map-even.pcd" --initial-pose "$START" --set features.deskew=false \
-    --set localization.association=voxel --set localization.rounds=10 --out "$OUT/run"
+    --set association.kind=voxel --set localization.rounds=10 --out "$OUT/run"
 $BIN/superloc-eval --est "$OUT/run/trajectory.tum" --gt "$DATA/gt_velodyne_tum.txt" \
     --json "$OUT/eval.json"
 

@@ -43,7 +43,7 @@ done
 run tiny-noimu "${TINY[@]}" --initial-pose-tum "$T/office-tiny-gt.tum" --set localization.use_imu=false
 run tiny-auto "${TINY[@]}" --initial-pose auto
 K=(--rawlog "$D/kitti.rawlog" --set rawlog.scans=odd --map "$D/kitti-even.pcd" --set features.deskew=false)
-run kitti-voxel "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")" --set localization.association=voxel \
+run kitti-voxel "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")" --set association.kind=voxel \
   --set localization.rounds=10
 run kitti-nearest "${K[@]}" --initial-pose "$(cat "$D/kitti-start.txt")"
 run kitti-auto "${K[@]}" --initial-pose auto

@@ -84,13 +84,13 @@ TEST(BenchApp, RunsASuiteWithStandInTools) {
     fs::remove(tools + "/superloc-sim");
     BenchApp again;
     again.initialize({d + "/suite.ini", "--out", d + "/out", "--tools", tools, "--methods", "good",
-                      "--localize-set", "localization.association=voxel"});
+                      "--localize-set", "association.kind=voxel"});
     std::ostringstream log2;
     EXPECT_EQ(again.run(log2), 0) << log2.str();
     EXPECT_EQ(again.runs.size(), 1u);
     // --localize-set reaches the localize run, and results.md's command line records it.
-    EXPECT_NE(log2.str().find("--set localization.association=voxel"), std::string::npos) << log2.str();
-    EXPECT_NE(slurp(d + "/out/results.md").find("--localize-set localization.association=voxel"),
+    EXPECT_NE(log2.str().find("--set association.kind=voxel"), std::string::npos) << log2.str();
+    EXPECT_NE(slurp(d + "/out/results.md").find("--localize-set association.kind=voxel"),
               std::string::npos);
 }
 

@@ -64,7 +64,7 @@ class FaultsReal : public ::testing::Test {
         const std::string rawlog = dir_ + "/" + name + ".rawlog";
         rewriteRawlog(split_.rawlog, rawlog, "odd", edit);
         return runLocalize({"--rawlog", rawlog, "--map", split_.map, "--initial-pose-tum", split_.gt_tum, "--set",
-                            "features.deskew=false", "--set", "localization.association=voxel", "--set",
+                            "features.deskew=false", "--set", "association.kind=voxel", "--set",
                             "localization.rounds=10", "--method", "superloc"},
                            dir_ + "/" + name, split_.gt_tum);
     }

@@ -36,7 +36,7 @@ class RealSplitRuns : public ::testing::Test {
     static superloc::testing::LocalizeRun localize(const superloc::testing::RealSplit& s, const std::string& name,
                                                     std::vector<std::string> extra) {
         std::vector<std::string> args = {"--rawlog", s.rawlog, "--map", s.map, "--set", "rawlog.scans=odd",
-                                         "--set", "features.deskew=false", "--set", "localization.association=voxel",
+                                         "--set", "features.deskew=false", "--set", "association.kind=voxel",
                                          "--set", "localization.rounds=10"};
         args.insert(args.end(), extra.begin(), extra.end());
         return superloc::testing::localizeAndCompare(args, s.dir + "/" + name, s.gt_tum, 1.5);

@@ -8,6 +8,8 @@
 #include <superloc/localization/localization_params.h>
 #include <superloc/app/run_outputs.h>
 
+#include "box_room.h"
+
 #include <limits>
 #include <random>
 #include <sstream>
@@ -86,7 +88,7 @@ TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
     // One feature on the lower tread inside the stepped voxel, one on the flat floor.
     const std::vector<Vec3d> pts = {Vec3d(0.15, 0.2, 0.1), Vec3d(-0.3, 0.2, 0.1)};
     AssociationParams ap;
-    ap.voxel = true;
+    ap.kind = AssociationKind::Voxel;
     ap.level = 0;
     std::vector<Correspondence> with_voxels, hybrid;
     AssociationStats st;
@@ -107,27 +109,57 @@ TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
     EXPECT_NEAR(hybrid[1].n.dot(with_voxels[1].n), with_voxels[1].n.squaredNorm(), 1e-9);
 }
 
-TEST(Association, VoxelNearestAboveIsReadAndChecked) {
+TEST(Association, SectionIsReadAndChecked) {
     mrpt::config::CConfigFileMemory ini;
-    ini.write("localization", "association", "voxel");
-    ini.write("localization", "voxel_nearest_above", 0.03);
-    LocalizationParams p;
-    p.loadFromConfigFile(ini, "localization");
+    ini.write("association", "kind", "voxel");
+    ini.write("association", "voxel_nearest_above", 0.03);
+    ini.write("association", "plane_thickness", 0.02);
+    const AssociationConfig p = loadParams<AssociationConfig>(ini, "association", "test.ini");
+    EXPECT_EQ(p.kind, AssociationKind::Voxel);
     EXPECT_DOUBLE_EQ(p.voxel_nearest_above, 0.03);
-    EXPECT_NO_THROW(p.validate());
-    p.voxel_nearest_above = -0.01;
-    EXPECT_THROW(p.validate(), ConfigError);
-    p.voxel_nearest_above = std::numeric_limits<double>::quiet_NaN();
-    EXPECT_THROW(p.validate(), ConfigError);
-    EXPECT_DOUBLE_EQ(LocalizationParams{}.voxel_nearest_above, 0.0);  // off by default
+    EXPECT_DOUBLE_EQ(p.plane_thickness, 0.02);
+    AssociationConfig bad = p;
+    bad.voxel_nearest_above = -0.01;
+    EXPECT_THROW(bad.validate(), ConfigError);
+    bad = p;
+    bad.voxel_nearest_above = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(bad.validate(), ConfigError);
+    bad = p;
+    bad.plane_thickness = 0;
+    EXPECT_THROW(bad.validate(), ConfigError);
+    EXPECT_DOUBLE_EQ(AssociationConfig{}.voxel_nearest_above, 0.0);  // off by default
+    EXPECT_EQ(AssociationConfig{}.kind, AssociationKind::Planes);    // the default
+    // A bad kind is one line naming the section and the key.
+    mrpt::config::CConfigFileMemory wrong;
+    wrong.write("association", "kind", "kdtree");
+    try {
+        loadParams<AssociationConfig>(wrong, "association", "test.ini");
+        ADD_FAILURE() << "no error";
+    } catch (const ConfigError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("[association] kind"), std::string::npos) << m;
+        EXPECT_NE(m.find("kdtree"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+    // The old [localization] key is gone: an unknown key there.
+    mrpt::config::CConfigFileMemory old;
+    old.write("localization", "association", "voxel");
+    EXPECT_THROW(loadParams<LocalizationParams>(old, "localization", "old.ini"), ConfigError);
 }
 
-// AssociationParams' defaults are the run's association (the default [localization] and
-// [features]), so that a caller that builds one by hand associates as a run does.
+// AssociationParams' defaults are the run's association (the default [association],
+// [localization] and [features]), so that a caller that builds one by hand associates as a run does.
 TEST(Association, DefaultsAreTheRunsAssociation) {
     const AssociationParams d;
-    const AssociationParams run = trackingAssociation(LocalizationParams{}, features::FeaturesParams{});
-    EXPECT_EQ(d.voxel, run.voxel);
+    const AssociationParams run =
+        trackingAssociation(AssociationConfig{}, LocalizationParams{}, features::FeaturesParams{});
+    EXPECT_EQ(d.kind, run.kind);
+    EXPECT_EQ(d.kind, AssociationKind::Planes);
+    EXPECT_EQ(d.plane_min_points, run.plane_min_points);
+    EXPECT_EQ(d.plane_thickness, run.plane_thickness);
+    EXPECT_EQ(d.plane_min_spread, run.plane_min_spread);
+    EXPECT_EQ(d.plane_footprint, run.plane_footprint);
+    EXPECT_EQ(d.plane_gate, run.plane_gate);
     EXPECT_EQ(d.level, run.level);
     EXPECT_EQ(d.nearest_above_thickness, run.nearest_above_thickness);
     EXPECT_EQ(d.max_dist, run.max_dist);
@@ -174,4 +206,172 @@ TEST(RunOutputs, CsvLineMatchesHeader) {
     for (int k = 0; k < 6; ++k) EXPECT_EQ(at(bias[k]), want[k]) << bias[k];
     EXPECT_EQ(at("est_sigma_x"), "0.01");
     EXPECT_EQ(at("est_sigma_yaw"), "inf");
+}
+
+// ---- planes: validated voxel planes, else the nearest map point within the grid's cell --------
+
+namespace {
+// Floor z = 0.1 for x < 0.25 m, a 0.17 m step up beyond (2 x 2 m, 2.5 cm grid), and the step's
+// riser at x = 0.25: the voxels [0, 0.5) along x hold a riser and two treads.
+PointCloud floorWithStep() {
+    PointCloud c;
+    for (int i = 0; i < 80; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
+            c.points.emplace_back(x, y, x < 0.25f ? 0.1f : 0.27f);
+        }
+    for (int k = 0; k < 7; ++k)
+        for (int j = 0; j < 80; ++j) c.points.emplace_back(0.25f, -1.0f + 0.025f * j + 0.0125f, 0.1f + 0.025f * k);
+    return c;
+}
+}  // namespace
+
+TEST(PlanesAssociation, FlatVoxelGivesItsPlaneSteppedVoxelFallsBackToTheTread) {
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const map::PriorMap m(floorWithStep(), mp, Vec3f(0, 0, 2));
+    // On the flat floor (voxel [-0.5, 0)), on the lower tread inside the stepped voxel, and 1.15 m
+    // above the floor (beyond max_dist, 1 m: none, from the grid's 125 cells as from the kd-tree).
+    const std::vector<Vec3d> pts = {Vec3d(-0.3, 0.2, 0.12), Vec3d(0.15, 0.2, 0.11), Vec3d(-0.3, 0.2, 1.25)};
+    AssociationParams ap;  // the default: planes
+    ASSERT_EQ(ap.kind, AssociationKind::Planes);
+    std::vector<Correspondence> corr;
+    std::vector<uint32_t> feature_of;
+    AssociationStats st;
+    associate(pts, SE3d::Identity(), m, ap, corr, st, &feature_of);
+    ASSERT_EQ(corr.size(), 2u);
+    EXPECT_EQ(st.voxel_planes, 1u);
+    EXPECT_EQ(st.plane, 2u);
+    EXPECT_EQ(st.too_far, 1u);
+    ASSERT_EQ(feature_of, (std::vector<uint32_t>{0, 1}));
+    // The flat floor: its voxel's plane through the voxel's centroid (not a map point).
+    const map::VoxelStats* v = m.voxels().find(0, Vec3f(-0.3f, 0.2f, 0.12f));
+    ASSERT_NE(v, nullptr);
+    EXPECT_NEAR((corr[0].q - v->mean.cast<double>()).norm(), 0.0, 1e-6);
+    EXPECT_NEAR(std::abs(corr[0].n.z()), 1.0, 1e-4);
+    EXPECT_NEAR(fusion::correspondenceError(corr[0], SE3d::Identity()), 0.02, 1e-4);
+    // The stepped voxel is thick (its plane is the diagonal through the steps): the tread's own
+    // plane at its nearest map point instead, as `nearest` gives it.
+    const map::VoxelStats* stepped = m.voxels().find(0, Vec3f(0.15f, 0.2f, 0.11f));
+    ASSERT_NE(stepped, nullptr);
+    EXPECT_GT(stepped->thickness, ap.plane_thickness);
+    EXPECT_NEAR(std::abs(corr[1].n.z()), 1.0, 1e-3);
+    EXPECT_NEAR(corr[1].q.z(), 0.1, 1e-6);
+    EXPECT_NEAR(fusion::correspondenceError(corr[1], SE3d::Identity()), 0.01, 1e-3);
+    // 0.7 m above the floor: within max_dist, found in the grid's second ring of cells.
+    std::vector<Correspondence> up;
+    associate({Vec3d(-0.3, 0.2, 0.8)}, SE3d::Identity(), m, ap, up, st);
+    ASSERT_EQ(up.size(), 1u);
+    EXPECT_NEAR(fusion::correspondenceError(up[0], SE3d::Identity()), 0.7, 1e-3);
+    ap.max_dist = 0.5;  // the bound: nothing within it, none
+    associate({Vec3d(-0.3, 0.2, 0.8)}, SE3d::Identity(), m, ap, up, st);
+    EXPECT_TRUE(up.empty());
+    EXPECT_EQ(st.too_far, 1u);
+    ap.max_dist = 1.0;
+    std::vector<Correspondence> nn;
+    ap.kind = AssociationKind::Nearest;
+    associate(pts, SE3d::Identity(), m, ap, nn, st);
+    ASSERT_EQ(nn.size(), 2u);
+    EXPECT_EQ(st.too_far, 1u);
+    EXPECT_NEAR((nn[1].q - corr[1].q).norm(), 0.0, 1e-9);
+    EXPECT_NEAR(nn[1].n.dot(corr[1].n), 1.0, 1e-9);
+}
+
+TEST(PlanesAssociation, OutsideThePlanesFootprintFallsBack) {
+    // A wall (x = 0) covering only z in [0, 0.2) of the voxels [0, 0.5) in z: a feature in the
+    // same voxel at z = 0.45 projects beyond the wall's top edge; its voxel's plane is not used.
+    PointCloud c;
+    for (int j = 0; j < 80; ++j)
+        for (int k = 0; k < 8; ++k) c.points.emplace_back(0.1f, -1.0f + 0.025f * j + 0.0125f, 0.0125f + 0.025f * k);
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const map::PriorMap m(c, mp, Vec3f(2, 0, 1));
+    AssociationParams ap;
+    std::vector<Correspondence> corr;
+    AssociationStats st;
+    associate({Vec3d(0.12, 0.2, 0.1), Vec3d(0.12, 0.2, 0.45)}, SE3d::Identity(), m, ap, corr, st);
+    EXPECT_EQ(st.voxel_planes, 1u);  // the first, on the wall
+    EXPECT_EQ(st.plane + st.line + st.point + st.too_far, 2u);
+}
+
+TEST(PlanesAssociation, AnswersLikeNearestInABoxRoom) {
+    // The box room's surfaces (5 cm grid) and features 1-3 cm off them, seen from inside: the
+    // same correspondences as the kd-tree's (same planes, residuals within a millimetre), most
+    // of them from the voxel planes. The room is shifted off the voxel grid's faces (a wall on a
+    // face leaves the voxels on its inner side empty: those features would all fall back).
+    const Vec3f shift(0.23f, 0.17f, 0.11f);
+    PointCloud room = superloc::testing::boxSurface(0.05);
+    for (auto& q : room.points) q += shift;
+    map::MapParams mp;
+    const map::PriorMap m(room, mp, Vec3f(0, 0, 1.5f));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> U(0, 1);
+    std::vector<Vec3d> pts;
+    const Vec3d lo = superloc::testing::kRoomMin, hi = superloc::testing::kRoomMax;
+    for (int i = 0; i < 1500; ++i) {
+        Vec3d x(lo.x() + 0.3 + (hi.x() - lo.x() - 0.6) * U(rng), lo.y() + 0.3 + (hi.y() - lo.y() - 0.6) * U(rng),
+                lo.z() + 0.3 + (hi.z() - lo.z() - 0.6) * U(rng));
+        const int axis = i % 3;
+        x[axis] = (i / 3) % 2 ? hi[axis] - (0.01 + 0.02 * U(rng)) : lo[axis] + 0.01 + 0.02 * U(rng);
+        pts.push_back(x + shift.cast<double>());
+    }
+    const SE3d T = makePoseRPY(0.3, -0.2, 1.2, 0.02, -0.01, 0.4);
+    std::vector<Vec3d> body;
+    for (const auto& x : pts) body.push_back(T.inverse() * x);
+    AssociationParams ap;
+    std::vector<Correspondence> planes, nearest;
+    std::vector<uint32_t> of_planes, of_nearest;
+    AssociationStats sp, sn;
+    associate(body, T, m, ap, planes, sp, &of_planes);
+    ap.kind = AssociationKind::Nearest;
+    associate(body, T, m, ap, nearest, sn, &of_nearest);
+    EXPECT_GT(sp.voxel_planes, pts.size() * 8 / 10);
+    EXPECT_EQ(sp.too_far, 0u);
+    // Every feature the kd-tree associates as a plane, planes associates too, with the same
+    // normal and residual.
+    std::vector<int> at(pts.size(), -1);
+    for (size_t k = 0; k < planes.size(); ++k) at[of_planes[k]] = static_cast<int>(k);
+    size_t compared = 0;
+    for (size_t k = 0; k < nearest.size(); ++k) {
+        if (nearest[k].type != FeatureType::Plane) continue;
+        const int j = at[of_nearest[k]];
+        ASSERT_GE(j, 0) << "feature " << of_nearest[k];
+        const Correspondence& a = planes[static_cast<size_t>(j)];
+        EXPECT_EQ(a.type, FeatureType::Plane);
+        EXPECT_GT(std::abs(a.n.dot(nearest[k].n)), std::cos(2.0 * M_PI / 180));
+        EXPECT_NEAR(fusion::correspondenceError(a, T), fusion::correspondenceError(nearest[k], T), 1e-3);
+        ++compared;
+    }
+    EXPECT_GT(compared, pts.size() * 9 / 10);
+}
+
+TEST(PlanesAssociation, ASurfaceBeyondTheVoxelsFaceIsNotHiddenByItsPlane) {
+    // A floor (z = 0.1) and a wall standing exactly on a voxel face (x = 0.5): the voxel
+    // [0, 0.5)^3 holds the floor alone, thin and valid. A feature 2 cm off the wall, 20 cm above
+    // the floor, sits in that voxel: its surface is the wall beyond the face (2 cm), not the
+    // floor's plane (20 cm), as the kd-tree says.
+    PointCloud c;
+    for (int i = 0; i < 80; ++i)
+        for (int j = 0; j < 80; ++j) {
+            const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
+            if (x < 0.5f) c.points.emplace_back(x, y, 0.1f);
+        }
+    for (int k = 0; k < 40; ++k)
+        for (int j = 0; j < 80; ++j) c.points.emplace_back(0.5f, -1.0f + 0.025f * j + 0.0125f, 0.1125f + 0.025f * k);
+    map::MapParams mp;
+    mp.voxel_size = 0;
+    const map::PriorMap m(c, mp, Vec3f(0, 0, 1));
+    const std::vector<Vec3d> pts = {Vec3d(0.48, 0.2, 0.3), Vec3d(0.2, 0.2, 0.12)};
+    AssociationParams ap;
+    std::vector<Correspondence> planes, nearest;
+    AssociationStats st;
+    associate(pts, SE3d::Identity(), m, ap, planes, st);
+    ASSERT_EQ(planes.size(), 2u);
+    EXPECT_EQ(st.voxel_planes, 1u);  // the floor feature only
+    EXPECT_NEAR(std::abs(planes[0].n.x()), 1.0, 1e-3);
+    EXPECT_NEAR(fusion::correspondenceError(planes[0], SE3d::Identity()), 0.02, 1e-3);
+    ap.kind = AssociationKind::Nearest;
+    associate(pts, SE3d::Identity(), m, ap, nearest, st);
+    ASSERT_EQ(nearest.size(), 2u);
+    EXPECT_NEAR(nearest[0].n.dot(planes[0].n), 1.0, 1e-9);
 }

@@ -91,7 +91,7 @@ void defineCommandLine(CLI::App& cli, BenchApp& app, BenchFlags& f) {
                  "simulated data take ~1.4 GB per 150 s sequence; its GT trajectory stays)");
     cli.add_option("--localize-set", f.localize_sets,
                    "one more --set for every superloc-localize run (after the suite's [suite] keys), e.g.\n"
-                   "--localize-set localization.association=voxel (repeatable)")
+                   "--localize-set association.kind=voxel (repeatable)")
         ->type_name("SECTION.KEY=VALUE");
     cli.add_option("--jobs", f.jobs,
                    "children run at once (default: the number of cores): a sequence's preparation,\n"

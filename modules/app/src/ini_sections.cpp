@@ -4,7 +4,7 @@ namespace superloc::app {
 namespace {
 
 // Every section of superloc-localize (localization::LocalizerParams::load reads the Localizer's).
-const std::vector<std::string> kLocalize = {"run",    "localization",   "features",     "fusion",
+const std::vector<std::string> kLocalize = {"run",    "localization",   "association",    "features",     "fusion",
                                             "imu",    "risk",           "health",       "relocalization",
                                             "global_search", "rawlog",  "map"};
 

@@ -14,13 +14,15 @@ void keep(const Correspondence& c, uint32_t i, std::vector<Correspondence>& out,
     if (feature_of) feature_of->push_back(i);
 }
 
-/// The correspondence of the feature p_body, at x in the map frame, with its nearest map point
-/// and that point's neighbourhood geometry; false when there is none.
-bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::PriorMap& map,
-                           const AssociationParams& p, map::Neighbors& nb, Correspondence& c,
-                           AssociationStats& stats) {
-    const auto [j, d2] = map.nearest(x.cast<float>());
-    if (d2 > static_cast<float>(p.max_dist * p.max_dist)) {
+/// The correspondence of the feature p_body, at x in the map frame, with the map point j (its
+/// nearest, at squared distance d2) and that point's neighbourhood geometry; false when there is
+/// none. A line's direction is the principal axis of the line_knn map points nearest x, which
+/// `neighbours` finds (the kd-tree, or the bounded grid).
+template <class Neighbours>
+bool pointCorrespondence(const Vec3d& p_body, const Vec3d& x, uint32_t j, float d2, const map::PriorMap& map,
+                         const AssociationParams& p, Neighbours&& neighbours, map::Neighbors& nb,
+                         Correspondence& c, AssociationStats& stats) {
+    if (j == map::PointGrid::kNone || d2 > static_cast<float>(p.max_dist * p.max_dist)) {
         ++stats.too_far;
         return false;
     }
@@ -37,7 +39,7 @@ bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::Prior
         ++stats.plane;
     } else if (c.type == FeatureType::Line) {
         // Line direction: principal axis of the map neighbourhood.
-        map.knn(x.cast<float>(), p.line_knn, nb);
+        neighbours(x.cast<float>(), p.line_knn, nb);
         if (nb.indices.size() < 3) return false;
         Vec3d mean = Vec3d::Zero();
         for (uint32_t k : nb.indices) mean += map.point(k).cast<double>();
@@ -58,6 +60,16 @@ bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::Prior
         ++stats.point;
     }
     return c.weight > 0;  // a weight-0 correspondence is counted by its type, not kept
+}
+
+/// The correspondence of the feature p_body, at x in the map frame, with its nearest map point
+/// (kd-tree) and that point's neighbourhood geometry; false when there is none.
+bool nearestCorrespondence(const Vec3d& p_body, const Vec3d& x, const map::PriorMap& map,
+                           const AssociationParams& p, map::Neighbors& nb, Correspondence& c,
+                           AssociationStats& stats) {
+    const auto [j, d2] = map.nearest(x.cast<float>());
+    const auto knn = [&map](const Vec3f& q, size_t k, map::Neighbors& out) { map.knn(q, k, out); };
+    return pointCorrespondence(p_body, x, j, d2, map, p, knn, nb, c, stats);
 }
 
 void associateNearest(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
@@ -135,17 +147,97 @@ void associateVoxels(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     }
 }
 
+/// [m] Distance from x to the nearest face of its voxel of edge `size`.
+double faceDistance(const Vec3d& x, double size) {
+    double d = size;
+    for (int k = 0; k < 3; ++k) {
+        const double f = x[k] / size - std::floor(x[k] / size);
+        d = std::min(d, size * std::min(f, 1.0 - f));
+    }
+    return d;
+}
+
+/// planes: whether the voxel v (of edge `size`) is the feature at x's surface (AssociationParams:
+/// enough points, an absolute thickness, not a line, x inside the points' footprint and near the
+/// plane); then c is that point-to-plane correspondence. "Near" is also nearer than any face of
+/// the voxel: a surface beyond a face (a wall whose points fall in the next voxel) is then
+/// farther than this plane, so the plane is the one `nearest` would find.
+bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, double size,
+                const AssociationParams& p, Correspondence& c) {
+    if (v.count < static_cast<float>(p.plane_min_points) || !(v.thickness <= p.plane_thickness) ||
+        !(v.spread_minor >= p.plane_min_spread))
+        return false;
+    const Vec3d n = v.normal.cast<double>(), u = v.direction.cast<double>();
+    const Vec3d e = x - v.mean.cast<double>();
+    const double dist = std::abs(n.dot(e));
+    if (!(dist <= p.plane_gate) || dist > faceDistance(x, size)) return false;
+    // The footprint: within plane_footprint RMS spreads of the centroid along both in-plane axes.
+    if (std::abs(u.dot(e)) > p.plane_footprint * v.spread_major ||
+        std::abs(n.cross(u).dot(e)) > p.plane_footprint * v.spread_minor)
+        return false;
+    c = Correspondence{};
+    c.p = p_body;
+    c.q = v.mean.cast<double>();
+    c.n = n;
+    c.type = FeatureType::Plane;
+    c.weight = std::max(0.0, 1.0 - v.thickness / p.max_fit_residual);
+    return c.weight > 0;
+}
+
+void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
+                     const AssociationParams& p, std::vector<Correspondence>& out, AssociationStats& stats,
+                     std::vector<uint32_t>* feature_of) {
+    // The finest voxel's plane where it is validated (one hash probe), else the nearest map point
+    // within max_dist (at most two grid cells: 27 cells, 125 when nothing is within one) and its
+    // precomputed geometry: nothing unbounded.
+    if (map.size() == 0) return;
+    const map::VoxelMap& vm = map.voxels();
+    const map::PointGrid& grid = map.grid();
+    const float radius = static_cast<float>(std::min(p.max_dist, 2 * grid.cell()));
+    const Mat3d R = T_map_body.linear();
+    const Vec3d t = T_map_body.translation();
+    const auto knn = [&grid, radius](const Vec3f& q, size_t k, map::Neighbors& nb) {
+        grid.knn(q, k, radius, nb.indices, nb.sq_dists);
+    };
+    map::Neighbors nb;
+    Correspondence c;
+    for (uint32_t i = 0; i < pts_body.size(); ++i) {
+        const Vec3d x = R * pts_body[i] + t;
+        const Vec3f xf = x.cast<float>();
+        const map::VoxelStats* v = vm.levels() > 0 ? vm.find(0, xf) : nullptr;
+        int level = 0;
+        // Where the finest voxel is too sparse for a plane (an open field's terrain, a map built
+        // at 0.2 m), the twice as large voxel around it, validated the same way (the absolute
+        // thickness keeps it off steps and clutter).
+        if ((!v || v->count < static_cast<float>(p.plane_min_points)) && vm.levels() > 1) v = vm.find(level = 1, xf);
+        if (v && voxelPlane(pts_body[i], x, *v, vm.levelSize(level), p, c)) {
+            ++stats.plane;
+            ++stats.voxel_planes;
+            keep(c, i, out, feature_of);
+            continue;
+        }
+        const auto [j, d2] = grid.nearest(xf, radius);
+        if (pointCorrespondence(pts_body[i], x, j, d2, map, p, knn, nb, c, stats)) keep(c, i, out, feature_of);
+    }
+}
+
 }  // namespace
 
-AssociationParams trackingAssociation(const LocalizationParams& lp, const features::FeaturesParams& fp) {
+AssociationParams trackingAssociation(const AssociationConfig& ac, const LocalizationParams& lp,
+                                      const features::FeaturesParams& fp) {
     AssociationParams a;
+    a.kind = ac.kind;
     a.max_dist = lp.max_corr_dist;
-    a.voxel = lp.association == "voxel";
-    a.nearest_above_thickness = a.voxel ? lp.voxel_nearest_above : 0.0;
+    a.nearest_above_thickness = ac.kind == AssociationKind::Voxel ? ac.voxel_nearest_above : 0.0;
     a.plane_max_thickness = fp.plane_max_thickness;
     a.line_min_linearity = fp.line_min_linearity;
-    a.max_fit_residual = lp.max_fit_residual;
-    a.point_weight = lp.point_weight;
+    a.max_fit_residual = ac.max_fit_residual;
+    a.point_weight = ac.point_weight;
+    a.plane_min_points = ac.plane_min_points;
+    a.plane_thickness = ac.plane_thickness;
+    a.plane_min_spread = ac.plane_min_spread;
+    a.plane_footprint = ac.plane_footprint;
+    a.plane_gate = ac.plane_gate;
     return a;
 }
 
@@ -155,10 +247,11 @@ void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const
     out.clear();
     stats = {};
     if (feature_of) feature_of->clear();
-    if (p.voxel)
-        associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of);
-    else
-        associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of);
+    switch (p.kind) {
+        case AssociationKind::Planes: associatePlanes(pts_body, T_map_body, map, p, out, stats, feature_of); break;
+        case AssociationKind::Voxel: associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of); break;
+        case AssociationKind::Nearest: associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of); break;
+    }
 }
 
 InlierStats inlierStats(const std::vector<Correspondence>& corr, size_t n_features,

@@ -17,7 +17,7 @@ IcpRegistration::IcpRegistration(const LocalizerParams& params)
       fusion_(params.fusion),
       imu_(params.imu),
       risk_(params.risk),
-      assoc_(trackingAssociation(params.loc, params.features)),
+      assoc_(trackingAssociation(params.assoc, params.loc, params.features)),
       kernel_(fusion::robustKernelFromString(params.fusion.robust_kernel)) {}
 
 // Coarse to fine. association = voxel (doc/map.md): over the voxel map's levels; a frame whose
@@ -30,6 +30,9 @@ IcpRegistration::IcpRegistration(const LocalizerParams& params)
 // association = nearest: the search radius starts at max_corr_dist_init on wide frames and
 // shrinks by 0.7 each time the pose settles, down to max_corr_dist; the kernel halves from
 // radius/2 to kernel_scale within each radius.
+// association = planes: as nearest; the rounds whose radius is still above max_corr_dist (a wide
+// frame's first ones) search the kd-tree as nearest does, the others the bounded planes
+// association. The last scan's registration (LastScan) is nearest's throughout.
 // A hypothesis of the global search is solved in the voxel map whatever the tracking
 // association (its metre-sized levels forgive the search's 0.25 m / 1.5 deg steps), and starts
 // one level below the coarsest at most (1 m by default): the search's refinement has brought it
@@ -37,9 +40,11 @@ IcpRegistration::IcpRegistration(const LocalizerParams& params)
 // hypotheses away (simulated office: the right pose then lost to a look-alike room).
 class IcpRegistration::Schedule {
    public:
-    Schedule(const LocalizationParams& lp, double kernel_scale, const map::VoxelMap& voxels, bool voxel, bool wide,
-             bool hypothesis, bool may_settle, bool one_anneal = false)
+    Schedule(const LocalizationParams& lp, const AssociationParams& base, double kernel_scale,
+             const map::VoxelMap& voxels, bool voxel, bool wide, bool hypothesis, bool may_settle,
+             bool one_anneal = false)
         : lp_(lp),
+          base_(base),
           kernel_scale_(kernel_scale),
           voxels_(voxels),
           voxel_(voxel),
@@ -53,9 +58,13 @@ class IcpRegistration::Schedule {
     bool voxel() const { return voxel_; }
     int level() const { return level_; }
     double scale() const { return voxel_ ? std::pow(2.0, level_) : 1.0; }
-    /// The round's association: `base` at this level (voxel) or radius (nearest).
-    AssociationParams association(AssociationParams base) const {
-        base.voxel = voxel_;
+    /// The round's association: the base at this level (voxel) or radius (nearest, planes).
+    AssociationParams association() const {
+        AssociationParams base = base_;
+        if (voxel_)
+            base.kind = AssociationKind::Voxel;
+        else if (base.kind == AssociationKind::Voxel || (base.kind == AssociationKind::Planes && radius_ > lp_.max_corr_dist))
+            base.kind = AssociationKind::Nearest;
         base.level = level_;
         base.max_dist = voxel_ ? lp_.max_corr_dist * scale() : radius_;
         return base;
@@ -112,6 +121,7 @@ class IcpRegistration::Schedule {
 
    private:
     const LocalizationParams& lp_;
+    AssociationParams base_;
     double kernel_scale_;
     const map::VoxelMap& voxels_;
     bool voxel_, wide_;
@@ -146,7 +156,7 @@ IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, cons
     const double kernel = s.kernel();
     const SE3d T_before = sol.state.T_map_imu();
     // Step 3: associate at the current estimate (the prediction on round 0).
-    associateAt(p, T_before, s.association(assoc_), feature_of, sol);
+    associateAt(p, T_before, s.association(), feature_of, sol);
     if (s.measuresRisk(r)) {
         // Step 4: alignment risk before the optimisation at this resolution (doc/method.md).
         const auto t0 = Clock::now();
@@ -213,7 +223,9 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     TrackReport& rep = sol.report;
     const map::PriorMap& map = *p.map;
     const bool hypothesis = p.purpose == SolvePurpose::Hypothesis;
-    Schedule sched(lp_, fusion_.kernel_scale, map.voxels(), assoc_.voxel || hypothesis, p.wide, hypothesis,
+    AssociationParams base = assoc_;
+    if (p.purpose == SolvePurpose::LastScan && base.kind == AssociationKind::Planes) base.kind = AssociationKind::Nearest;
+    Schedule sched(lp_, base, fusion_.kernel_scale, map.voxels(), base.voxel() || hypothesis, p.wide, hypothesis,
                    p.may_settle, p.purpose == SolvePurpose::LastScan);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
@@ -243,7 +255,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
         // The rounds ran out before the finest level: associate there once more so that the
         // frame's quality is measured at full resolution.
         AssociationParams ap = assoc_;
-        ap.voxel = true;
+        ap.kind = AssociationKind::Voxel;
         associateAt(p, sol.state.T_map_imu(), ap, feature_of, sol);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();

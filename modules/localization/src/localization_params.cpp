@@ -33,22 +33,19 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     method = methodFromString(c.read_string(s, "method", methodName(method)));
     MRPT_LOAD_CONFIG_VAR(use_imu, bool, c, s);
     output_frame = c.read_string(s, "output_frame", output_frame);
-    MRPT_LOAD_CONFIG_VAR(association, string, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_corr_dist_init, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(voxel_nearest_above, double, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds, int, c, s);
     MRPT_LOAD_CONFIG_VAR(rounds_init, int, c, s);
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(motion_from_last_scan, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(last_scan_yaw_step, double, c, s);
     MRPT_LOAD_CONFIG_VAR(sweep_velocity, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(settle_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(settle_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(settle_after_scan, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(inlier_dist, double, c, s);
     MRPT_LOAD_CONFIG_VAR(min_inlier_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_jump_xyz, double, c, s);
@@ -64,22 +61,19 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
             mrpt::config::MRPT_SAVE_VALUE_PADDING(), "icp | ndt | superloc | superloc_paper | passive | eigen_remap");
     MRPT_SAVE_CONFIG_VAR_COMMENT(use_imu, "IMU prediction + preintegration factor when available");
     MRPT_SAVE_CONFIG_VAR_COMMENT(output_frame, "reported poses: lidar (T_map_lidar) or body");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(association, "nearest (kd-tree) | voxel (voxel map, coarse to fine)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map point (nearest) / voxel plane (voxel, finest level)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] nearest: the same on a wide frame's first rounds");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_nearest_above, "[m] voxel: features in thicker finest voxels (or none) use the kd-tree (0: never)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist, "[m] max distance to the map point (nearest, planes) / voxel plane (voxel, finest level)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(max_corr_dist_init, "[m] nearest, planes: the same on a wide frame's first rounds");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds, "most association + solve rounds per tracked frame");
     MRPT_SAVE_CONFIG_VAR_COMMENT(rounds_init, "most rounds of a frame started at the coarsest level");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(motion_from_last_scan, "no IMU: unknown velocity measured against the last scan first");
     MRPT_SAVE_CONFIG_VAR_COMMENT(last_scan_yaw_step, "[deg] that motion's first guess: turns about the vertical in these steps (0: none)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(sweep_velocity, "unknown velocity, timed points: estimate the sweep's velocity for deskew");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences (0: none used)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_xyz, "[m] tracked frame: a round's update below this (and settle_deg) ends the kernel's annealing; 0: off");
     MRPT_SAVE_CONFIG_VAR_COMMENT(settle_deg, "[deg] ...and the rotation update below");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(settle_after_scan, "no IMU: a frame whose motion the last (sound) scan measured may settle too");
     MRPT_SAVE_CONFIG_VAR_COMMENT(inlier_dist, "[m] feature residual below: inlier");
     MRPT_SAVE_CONFIG_VAR_COMMENT(min_inlier_ratio, "[-] inlier ratio below: diverged");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_jump_xyz, "[m] solved vs predicted farther: diverged");
@@ -98,17 +92,11 @@ void LocalizationParams::validate() const {
     };
     positive(max_corr_dist, "max_corr_dist");
     positive(max_corr_dist_init, "max_corr_dist_init");
-    if (association != "nearest" && association != "voxel")
-        throw ConfigError("[localization] association must be nearest or voxel, not '" + association + "'");
     if (!(last_scan_yaw_step >= 0 && last_scan_yaw_step <= 180))
         throw ConfigError("[localization] last_scan_yaw_step must be in [0, 180] deg");
-    if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))
-        throw ConfigError("[localization] voxel_nearest_above must be >= 0");
     if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");
     if (rounds_init < 1) throw ConfigError("[localization] rounds_init must be >= 1");
     positive(max_cv_gap, "max_cv_gap");
-    positive(max_fit_residual, "max_fit_residual");
-    if (point_weight < 0) throw ConfigError("[localization] point_weight must be >= 0");
     positive(converged_xyz, "converged_xyz");
     positive(converged_deg, "converged_deg");
     if (!(settle_xyz >= 0) || !std::isfinite(settle_xyz)) throw ConfigError("[localization] settle_xyz must be >= 0");

@@ -7,6 +7,7 @@ namespace superloc::localization {
 LocalizerParams LocalizerParams::load(const mrpt::config::CConfigFileBase& cfg, const std::string& source) {
     LocalizerParams p;
     p.loc = loadParams<LocalizationParams>(cfg, "localization", source);
+    p.assoc = loadParams<AssociationConfig>(cfg, "association", source);
     p.features = loadParams<features::FeaturesParams>(cfg, "features", source);
     p.fusion = loadParams<fusion::FusionParams>(cfg, "fusion", source);
     p.imu = loadParams<imu::ImuParams>(cfg, "imu", source);
@@ -19,6 +20,7 @@ LocalizerParams LocalizerParams::load(const mrpt::config::CConfigFileBase& cfg, 
 
 void LocalizerParams::save(mrpt::config::CConfigFileBase& cfg) const {
     loc.saveToConfigFile(cfg, "localization");
+    assoc.saveToConfigFile(cfg, "association");
     features.saveToConfigFile(cfg, "features");
     fusion.saveToConfigFile(cfg, "fusion");
     imu.saveToConfigFile(cfg, "imu");

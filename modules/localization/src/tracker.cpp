@@ -112,8 +112,13 @@ FrameSolution Tracker::track(Frame& f, bool velocity_unknown) {
     const imu::Preintegration* imu = f.pred.used_imu ? &f.pre : nullptr;
     const Registration::Traits how = reg_->traits();
     // A frame predicted from a motion the last frame confirmed may end its annealing early
-    // (prediction_confirmed_ is false with settle_xyz = 0).
-    const bool may_settle = prediction_confirmed_ && !velocity_unknown && !rep.motion_from_scan;
+    // (prediction_confirmed_ is false with settle_xyz = 0); with settle_after_scan also one whose
+    // motion was measured against the last scan, when that frame was tracked to a sound end
+    // (never after the first frame or a wide start: a small first step after a doubtful start
+    // does not mean the start was right, doc/localizer.md).
+    const bool after_scan =
+        params_.loc.settle_after_scan && rep.motion_from_scan && last_sound_ && params_.loc.settle_xyz > 0;
+    const bool may_settle = ((prediction_confirmed_ && !rep.motion_from_scan) || after_scan) && !velocity_unknown;
     trackedSolve(*reg_, f, sol, velocity_unknown && how.coarse_to_fine, imu, may_settle);
     if (velocity_unknown && how.coarse_to_fine && wantsSweepVelocity(f.pred) && !rep.diverged)
         sweepVelocity(f, f.pred, imu, sol);
@@ -210,7 +215,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
         if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol);
     } else {
         icp_.solve(problem(f, SolvePurpose::Hypothesis, true, nullptr), sol);
-        if (!icp_.association().voxel) {
+        if (!icp_.association().voxel()) {
             // Inliers measured as tracking measures them, so that the refined poses compare with
             // the frame's own solve (the two associations count inliers differently).
             const auto ta = Clock::now();
@@ -326,6 +331,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     prev_marginal_ = own_solve ? sol.marginal : std::nullopt;
     // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
     const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
+    last_sound_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start;
     prediction_confirmed_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start &&
                             !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
                             rep.pred_ddeg < params_.loc.settle_deg;

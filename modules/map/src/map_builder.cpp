@@ -168,8 +168,11 @@ PointCloud MapBuilder::build(const io::ProgressFn& progress) {
         oriented.normals = std::move(views);
         // The viewing directions orient the normals (PriorMap flips each toward the given one).
         const PriorMap pm(oriented, p);
+        // With voxel_size 0 the PriorMap keeps every point, in PointGrid::cellOrder: its point j
+        // is the map's point order[j].
+        const std::vector<uint32_t> order = PointGrid::cellOrder(map.points, p.grid_cell);
         map.normals.resize(map.size());
-        for (size_t i = 0; i < map.size(); ++i) map.normals[i] = pm.geometry(i).normal;
+        for (size_t j = 0; j < pm.size(); ++j) map.normals[order[j]] = pm.geometry(j).normal;
         result_.normals_seconds = timer.Tac();
     }
     result_.map_points = map.size();

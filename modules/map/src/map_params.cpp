@@ -18,6 +18,7 @@ void MapParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     MRPT_LOAD_CONFIG_VAR(tile_radius, double, c, s);
     MRPT_LOAD_CONFIG_VAR(tile_reload, double, c, s);
     MRPT_LOAD_CONFIG_VAR(geometry_at_load, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(grid_cell, double, c, s);
 }
 
 void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -31,6 +32,7 @@ void MapParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_radius, "[m] tiled map: tiles within this x-y distance of the robot are loaded");
     MRPT_SAVE_CONFIG_VAR_COMMENT(tile_reload, "[m] tiled map: reload around the robot after moving this far");
     MRPT_SAVE_CONFIG_VAR_COMMENT(geometry_at_load, "every point's geometry computed at load on all cores (else by its first query)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(grid_cell, "[m] point grid of the planes association's fallback: cell edge (search radius <= 2 edges)");
 }
 
 void MapParams::validate() const {
@@ -49,6 +51,8 @@ void MapParams::validate() const {
     if (!std::isfinite(tile_radius) || tile_radius <= 0) throw ConfigError("[map] tile_radius must be > 0 m");
     if (!std::isfinite(tile_reload) || tile_reload <= 0 || tile_reload >= tile_radius)
         throw ConfigError("[map] tile_reload must be > 0 m and < tile_radius");
+    if (!std::isfinite(grid_cell) || grid_cell < 0.05 || grid_cell > 5)
+        throw ConfigError("[map] grid_cell must be in [0.05, 5] m");
 }
 
 }  // namespace superloc::map

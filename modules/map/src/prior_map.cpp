@@ -22,6 +22,7 @@ struct PriorMap::Impl {
     detail::PointsAdaptor adaptor;
     std::unique_ptr<detail::KdTree> tree;
     VoxelMap voxels;
+    PointGrid grid;
     double prepare_seconds = 0;
     // Lazy part: the kd-tree and the geometry's storage, built by the first query that needs
     // them, and each point's geometry, computed by the first query of that point (state: 0 = not
@@ -95,8 +96,16 @@ PriorMap::PriorMap(
         io::dropNonFinite(clean);
         filtered = voxelDownsample(clean, static_cast<float>(params.voxel_size));
     }
-    impl_->points = std::move(filtered.points);
-    impl_->given_normals = std::move(filtered.normals);
+    // The points in the point grid's cell order, so that each cell's points are contiguous (the
+    // grid then holds no per-point index: PointGrid).
+    const std::vector<uint32_t> order = PointGrid::cellOrder(filtered.points, params.grid_cell);
+    impl_->points.resize(order.size());
+    for (size_t j = 0; j < order.size(); ++j) impl_->points[j] = filtered.points[order[j]];
+    if (filtered.normals.size() == order.size()) {
+        impl_->given_normals.resize(order.size());
+        for (size_t j = 0; j < order.size(); ++j) impl_->given_normals[j] = filtered.normals[order[j]];
+    }
+    impl_->grid = PointGrid(impl_->points, params.grid_cell);
     impl_->viewpoint = viewpoint;
     impl_->voxels = VoxelMap(impl_->points, params.voxelMapParams());
     // After the viewpoint and the given normals: they orient each point's normal.
@@ -151,13 +160,15 @@ const PointGeometry& PriorMap::geometry(size_t i) const {
     return impl_->ensureGeometry(i);
 }
 const VoxelMap& PriorMap::voxels() const { return impl_->voxels; }
+const PointGrid& PriorMap::grid() const { return impl_->grid; }
 double PriorMap::prepareSeconds() const { return impl_->prepare_seconds; }
 
 size_t PriorMap::memoryBytes() const {
     size_t b = impl_->points.capacity() * sizeof(Vec3f) + impl_->voxels.memoryBytes() +
                impl_->given_normals.capacity() * sizeof(Vec3f) +
                impl_->geometry.capacity() * sizeof(PointGeometry) +
-               (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0);
+               (impl_->state ? impl_->points.size() * sizeof(std::atomic<uint8_t>) : 0) +
+               impl_->grid.memoryBytes();
     if (impl_->tree) b += impl_->tree->usedMemory(*impl_->tree);
     return b;
 }

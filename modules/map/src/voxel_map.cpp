@@ -135,7 +135,10 @@ void VoxelMap::buildLevel(const std::vector<Vec3f>& points, Level& L) const {
             st.planarity = static_cast<float>((ev(1) - ev(0)) / ev(2));
             st.linearity = static_cast<float>((ev(2) - ev(1)) / ev(2));
             st.thickness = static_cast<float>(std::sqrt(ev(0)));
+            st.spread_minor = static_cast<float>(std::sqrt(ev(1)));
+            st.spread_major = static_cast<float>(std::sqrt(ev(2)));
         }
+        st.count = static_cast<float>(a.n);
         for (uint64_t h = mixVoxelKey(a.key) & L.mask;; h = (h + 1) & L.mask)
             if (L.table[h].key == kEmpty) {
                 L.table[h].key = a.key;

@@ -1,5 +1,11 @@
-// Data association with the prior map at a pose (doc/localizer.md step 3; paper §III-A), two ways:
-//  - nearest (default): the nearest map point (kd-tree) and its precomputed neighbourhood
+// Data association with the prior map at a pose (doc/localizer.md step 3; paper §III-A), three
+// ways ([association] kind, doc/map.md):
+//  - planes (default): the finest voxel containing the feature (one hash probe) when its plane
+//    is validated (enough points, thinner than an absolute bound, the feature projecting inside
+//    the points' footprint and near the plane); otherwise the nearest map point within max_dist
+//    (PriorMap::grid, 125 cells at most) and that point's precomputed geometry,
+//    as `nearest` uses it. No search is unbounded.
+//  - nearest: the nearest map point (kd-tree, unbounded) and its precomputed neighbourhood
 //    geometry decide a point-to-plane, -line or -point correspondence with a fit weight;
 //  - voxel: the registration voxel map's voxel that contains the feature (one hash probe, at the
 //    level asked for) and that voxel's point statistics decide it (doc/map.md); at the finest
@@ -9,6 +15,7 @@
 
 #include <superloc/features/features_params.h>
 #include <superloc/fusion/scan_factor.h>
+#include <superloc/localization/association_config.h>
 #include <superloc/localization/localization_params.h>
 #include <superloc/map/prior_map.h>
 
@@ -16,10 +23,10 @@
 
 namespace superloc::localization {
 
-/// The defaults are the run's: trackingAssociation() of the default [localization] and
-/// [features] (doc/parameters.md).
+/// The defaults are the run's: trackingAssociation() of the default [association],
+/// [localization] and [features] (doc/parameters.md).
 struct AssociationParams {
-    bool voxel = false;                ///< voxel map association instead of nearest map point
+    AssociationKind kind = AssociationKind::Planes;
     int level = 0;                     ///< voxel map level (0 = finest), voxel association only
     /// [m] voxel, finest level: a feature whose voxel is thicker than this, or that has none, is
     /// associated as `nearest` does (kd-tree); 0: never
@@ -34,15 +41,24 @@ struct AssociationParams {
     /// (AssociationStats::point), not kept ([localization] point_weight)
     double point_weight = 0.0;
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
+    // planes: when a finest voxel's plane is used (AssociationConfig, [association])
+    int plane_min_points = 8;          ///< map points in the voxel at least
+    double plane_thickness = 0.03;     ///< [m] the points' RMS distance to their plane at most
+    double plane_min_spread = 0.05;    ///< [m] their RMS spread across the plane at least
+    double plane_footprint = 2.0;      ///< [-] the feature within this many spreads of the centroid, in the plane
+    double plane_gate = 0.25;          ///< [m] the feature this near the plane at most
+    bool voxel() const { return kind == AssociationKind::Voxel; }
 };
 
-/// The run's association at the finest level from [localization] association and
-/// voxel_nearest_above (nearest, voxel, or the hybrid) and the [features] shape thresholds.
-AssociationParams trackingAssociation(const LocalizationParams& lp, const features::FeaturesParams& fp);
+/// The run's association at the finest level from [association] (planes, nearest, voxel or the
+/// hybrid), [localization] max_corr_dist and the [features] shape thresholds.
+AssociationParams trackingAssociation(const AssociationConfig& ac, const LocalizationParams& lp,
+                                      const features::FeaturesParams& fp);
 
 struct AssociationStats {
     size_t plane = 0, line = 0, point = 0;  ///< correspondences by type
     size_t too_far = 0;                     ///< features with no map point / voxel within max_dist
+    size_t voxel_planes = 0;                ///< planes: features given their voxel's plane (the rest fell back)
     size_t total() const { return plane + line + point; }
 };
 

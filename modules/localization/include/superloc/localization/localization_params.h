@@ -19,18 +19,14 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     bool use_imu = true;          ///< IMU prediction + factor when the rawlog has IMU samples
     std::string output_frame = "lidar";  ///< reported poses: lidar (T_map_lidar) or body (T_map_imu)
 
-    // Association (paper §III-A, doc/localizer.md step 3)
-    /// nearest: nearest map point (kd-tree) + its neighbourhood's plane/line; voxel: the
-    /// registration voxel map, coarse to fine (doc/map.md; experimental, not the default yet)
-    std::string association = "nearest";
-    /// [m] no correspondence beyond this: nearest map point (nearest), or voxel plane / line /
-    /// centroid at the finest level, doubled per coarser level (voxel)
+    // Association (paper §III-A, doc/localizer.md step 3): which one and its thresholds are
+    // [association] (association_config.h); its reach, which the schedule and the covariance
+    // also read, is here.
+    /// [m] no correspondence beyond this: nearest map point (nearest; planes: at most twice the
+    /// map's grid_cell), or voxel plane / line / centroid at the finest level, doubled per
+    /// coarser level (voxel)
     double max_corr_dist = 1.0;
-    double max_corr_dist_init = 3.0;   ///< [m] nearest: the same, for the first rounds of a wide frame
-    /// [m] voxel: a feature whose finest-level voxel is thicker than this (a step, an edge, a
-    /// corner: a plane that smears the surface), or that has no finest-level voxel, is
-    /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
-    double voxel_nearest_above = 0.0;
+    double max_corr_dist_init = 3.0;   ///< [m] nearest, planes: the same, for the first rounds of a wide frame
     /// most association + solve rounds of a tracked frame (it stops earlier when settled)
     int rounds = 4;
     int rounds_init = 40;              ///< the same for a frame whose velocity is unknown
@@ -48,10 +44,6 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// a frame of unknown velocity whose points carry times (deskew on) estimates the sweep's
     /// translation velocity with its pose, instead of deskewing by rotation alone
     bool sweep_velocity = true;
-    double max_fit_residual = 0.1;     ///< [m] map plane fit RMS giving weight 0
-    /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
-    /// and slow to converge from a far initial pose, so off by default)
-    double point_weight = 0.0;
     double converged_xyz = 0.002;      ///< [m] stop re-associating when the update is below...
     double converged_deg = 0.02;       ///< [deg] ...both of these
     /// A tracked frame's round that moved the pose less than settle_xyz and settle_deg (at the
@@ -60,6 +52,11 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// round down to the floor
     double settle_xyz = 0.05;          ///< [m]
     double settle_deg = 0.5;           ///< [deg]
+    /// Without IMU, a frame whose motion was measured against the last scan may settle as above
+    /// too, provided the last frame was tracked to a converged `ok` end and was neither the
+    /// first frame nor a wide start (doc/localizer.md step 5); false: only frames whose motion
+    /// prediction the last frame confirmed settle
+    bool settle_after_scan = true;
 
     // Divergence detection (reported per frame, the run goes on)
     double inlier_dist = 0.2;          ///< [m] a feature is an inlier when its residual is below

@@ -136,6 +136,10 @@ class Tracker {
     /// converged, `ok`, and ended within settle_xyz / settle_deg of the prediction: the next
     /// frame's solve may settle (RegistrationProblem::may_settle)
     bool prediction_confirmed_ = false;
+    /// The last frame was tracked to a converged, `ok` end, not the first and not a wide start
+    /// (its prediction need not have been confirmed): with settle_after_scan the next frame's
+    /// solve may settle
+    bool last_sound_ = false;
     fusion::FrameState prev_;
     std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
     /// The IMU window's prior on the previous state (FusionParams::window = marginalized): the

@@ -1,10 +1,13 @@
-// The prior map: voxelized map points and the multi-resolution voxel map registration uses
-// (built at load). A kd-tree is built by the first nearest-neighbour query; each point's normal,
-// planarity, linearity and fit residual are computed by the first query of that point.
+// The prior map: voxelized map points, the multi-resolution voxel map registration uses
+// and the fine hash grid of bounded queries (PointGrid; the points are kept in its cell order),
+// both built at load. A kd-tree is built by the first nearest-neighbour query; each point's
+// normal, planarity, linearity and fit residual are computed by the first query of that point
+// (both at load with MapParams::geometry_at_load).
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
 #include <superloc/core/types.h>
+#include <superloc/map/point_grid.h>
 #include <superloc/map/voxel_map.h>
 
 #include <memory>
@@ -34,6 +37,10 @@ struct MapParams : public mrpt::config::CLoadableOptions {
     /// the same either way; prepareSeconds() includes the time. On by default: a tracked frame
     /// then pays for no map point's geometry (KITTI's reference split: 16 -> 9 ms a frame).
     bool geometry_at_load = true;
+    /// [m] cell edge of the fine hash grid (PointGrid) the `planes` association's fallback
+    /// searches: the nearest map point within this distance in 27 cells, within twice it in 125
+    /// at most (doc/map.md)
+    double grid_cell = 0.5;
 
     VoxelMap::Params voxelMapParams() const { return {reg_voxel, reg_levels, reg_overlap, reg_min_points}; }
 
@@ -79,6 +86,8 @@ class PriorMap {
     static PriorMap load(const std::string& path, const MapParams& params);
 
     size_t size() const;
+    /// The voxel-filtered points in the point grid's cell order (PointGrid::cellOrder): with
+    /// voxel_size 0, the given cloud's finite points permuted by cellOrder(them, grid_cell).
     const std::vector<Vec3f>& points() const;
     const Vec3f& point(size_t i) const;
     /// Per-point PCA geometry (normal_k neighbours within normal_max_radius), computed by the
@@ -90,6 +99,9 @@ class PriorMap {
     double prepareGeometry(unsigned threads = 0) const;
     /// The registration map (association of the localizer).
     const VoxelMap& voxels() const;
+    /// The fine hash grid of bounded nearest-neighbour queries (MapParams::grid_cell), built at
+    /// load (the points are stored in its cell order); thread-safe.
+    const PointGrid& grid() const;
 
     /// k nearest map points to q (fewer if the map is smaller); thread-safe. The first call
     /// builds the kd-tree.

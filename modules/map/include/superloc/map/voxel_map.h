@@ -22,7 +22,7 @@
 
 namespace superloc::map {
 
-/// Statistics of the map points in one (dilated) voxel. 48 bytes.
+/// Statistics of the map points in one (dilated) voxel. 60 bytes.
 struct VoxelStats {
     Vec3f mean = Vec3f::Zero();       ///< [m] centroid
     Vec3f normal = Vec3f::Zero();     ///< unit, eigenvector of the smallest eigenvalue (unsigned)
@@ -30,6 +30,10 @@ struct VoxelStats {
     float planarity = 0;              ///< (l2 - l3) / l1
     float linearity = 0;              ///< (l1 - l2) / l1
     float thickness = 0;              ///< [m] RMS distance of the points to their plane, sqrt(l3)
+    /// [m] the points' RMS spread in the plane: along `direction` (sqrt(l1)) and along
+    /// normal x direction (sqrt(l2)); the plane's footprint for the `planes` association
+    float spread_major = 0, spread_minor = 0;
+    float count = 0;                  ///< points in the (dilated) voxel
 };
 
 struct VoxelLevelInfo {
