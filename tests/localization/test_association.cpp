@@ -68,13 +68,11 @@ TEST(Association, FloorIsPlanePoleIsLine) {
     EXPECT_LT(inlierStats(corr, pts.size(), T_up, 0.05).inliers, 25u);
 }
 
-// A stair step inside one 0.5 m voxel smears its plane: the voxel association's plane there is
-// tilted and thick, the nearest map point's neighbourhood is the tread itself.
-// voxel_nearest_above hands such features (and those with no voxel) to the kd-tree.
-TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
+namespace {
+// Floor z = 0.1 for x < 0.25 m, a 0.17 m step up beyond (2 x 2 m, 2.5 cm grid), and the step's
+// riser at x = 0.25: the voxels [0, 0.5) along x hold a riser and two treads.
+PointCloud floorWithStep() {
     PointCloud c;
-    // Floor z = 0 for x < 0.25 m, a 0.17 m step up beyond (2 x 2 m, 2.5 cm grid), and the
-    // step's riser. The step sits in the middle of the voxels [0, 0.5) along x.
     for (int i = 0; i < 80; ++i)
         for (int j = 0; j < 80; ++j) {
             const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
@@ -82,9 +80,17 @@ TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
         }
     for (int k = 0; k < 7; ++k)
         for (int j = 0; j < 80; ++j) c.points.emplace_back(0.25f, -1.0f + 0.025f * j + 0.0125f, 0.1f + 0.025f * k);
+    return c;
+}
+}  // namespace
+
+// A stair step inside one 0.5 m voxel smears its plane: the voxel association's plane there is
+// tilted and thick, the nearest map point's neighbourhood is the tread itself.
+// voxel_nearest_above hands such features (and those with no voxel) to the kd-tree.
+TEST(Association, ThickVoxelsGoToTheNearestMapPoint) {
     map::MapParams mp;
     mp.voxel_size = 0;
-    const map::PriorMap m(c, mp, Vec3f(0, 0, 2));
+    const map::PriorMap m(floorWithStep(), mp, Vec3f(0, 0, 2));
     // One feature on the lower tread inside the stepped voxel, one on the flat floor.
     const std::vector<Vec3d> pts = {Vec3d(0.15, 0.2, 0.1), Vec3d(-0.3, 0.2, 0.1)};
     AssociationParams ap;
@@ -117,7 +123,7 @@ TEST(Association, SectionIsReadAndChecked) {
     const AssociationConfig p = loadParams<AssociationConfig>(ini, "association", "test.ini");
     EXPECT_EQ(p.kind, AssociationKind::Voxel);
     EXPECT_DOUBLE_EQ(p.voxel_nearest_above, 0.03);
-    EXPECT_DOUBLE_EQ(p.plane_thickness, 0.02);
+    EXPECT_DOUBLE_EQ(p.plane.thickness, 0.02);
     AssociationConfig bad = p;
     bad.voxel_nearest_above = -0.01;
     EXPECT_THROW(bad.validate(), ConfigError);
@@ -125,7 +131,7 @@ TEST(Association, SectionIsReadAndChecked) {
     bad.voxel_nearest_above = std::numeric_limits<double>::quiet_NaN();
     EXPECT_THROW(bad.validate(), ConfigError);
     bad = p;
-    bad.plane_thickness = 0;
+    bad.plane.thickness = 0;
     EXPECT_THROW(bad.validate(), ConfigError);
     EXPECT_DOUBLE_EQ(AssociationConfig{}.voxel_nearest_above, 0.0);  // off by default
     EXPECT_EQ(AssociationConfig{}.kind, AssociationKind::Planes);    // the default
@@ -155,11 +161,11 @@ TEST(Association, DefaultsAreTheRunsAssociation) {
         trackingAssociation(AssociationConfig{}, LocalizationParams{}, features::FeaturesParams{});
     EXPECT_EQ(d.kind, run.kind);
     EXPECT_EQ(d.kind, AssociationKind::Planes);
-    EXPECT_EQ(d.plane_min_points, run.plane_min_points);
-    EXPECT_EQ(d.plane_thickness, run.plane_thickness);
-    EXPECT_EQ(d.plane_min_spread, run.plane_min_spread);
-    EXPECT_EQ(d.plane_footprint, run.plane_footprint);
-    EXPECT_EQ(d.plane_gate, run.plane_gate);
+    EXPECT_EQ(d.plane.min_points, run.plane.min_points);
+    EXPECT_EQ(d.plane.thickness, run.plane.thickness);
+    EXPECT_EQ(d.plane.min_spread, run.plane.min_spread);
+    EXPECT_EQ(d.plane.footprint, run.plane.footprint);
+    EXPECT_EQ(d.plane.gate, run.plane.gate);
     EXPECT_EQ(d.level, run.level);
     EXPECT_EQ(d.nearest_above_thickness, run.nearest_above_thickness);
     EXPECT_EQ(d.max_dist, run.max_dist);
@@ -210,22 +216,6 @@ TEST(RunOutputs, CsvLineMatchesHeader) {
 
 // ---- planes: validated voxel planes, else the nearest map point within the grid's cell --------
 
-namespace {
-// Floor z = 0.1 for x < 0.25 m, a 0.17 m step up beyond (2 x 2 m, 2.5 cm grid), and the step's
-// riser at x = 0.25: the voxels [0, 0.5) along x hold a riser and two treads.
-PointCloud floorWithStep() {
-    PointCloud c;
-    for (int i = 0; i < 80; ++i)
-        for (int j = 0; j < 80; ++j) {
-            const float x = -1.0f + 0.025f * i + 0.0125f, y = -1.0f + 0.025f * j + 0.0125f;
-            c.points.emplace_back(x, y, x < 0.25f ? 0.1f : 0.27f);
-        }
-    for (int k = 0; k < 7; ++k)
-        for (int j = 0; j < 80; ++j) c.points.emplace_back(0.25f, -1.0f + 0.025f * j + 0.0125f, 0.1f + 0.025f * k);
-    return c;
-}
-}  // namespace
-
 TEST(PlanesAssociation, FlatVoxelGivesItsPlaneSteppedVoxelFallsBackToTheTread) {
     map::MapParams mp;
     mp.voxel_size = 0;
@@ -254,7 +244,7 @@ TEST(PlanesAssociation, FlatVoxelGivesItsPlaneSteppedVoxelFallsBackToTheTread) {
     // plane at its nearest map point instead, as `nearest` gives it.
     const map::VoxelStats* stepped = m.voxels().find(0, Vec3f(0.15f, 0.2f, 0.11f));
     ASSERT_NE(stepped, nullptr);
-    EXPECT_GT(stepped->thickness, ap.plane_thickness);
+    EXPECT_GT(stepped->thickness, ap.plane.thickness);
     EXPECT_NEAR(std::abs(corr[1].n.z()), 1.0, 1e-3);
     EXPECT_NEAR(corr[1].q.z(), 0.1, 1e-6);
     EXPECT_NEAR(fusion::correspondenceError(corr[1], SE3d::Identity()), 0.01, 1e-3);

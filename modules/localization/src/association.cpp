@@ -164,16 +164,16 @@ double faceDistance(const Vec3d& x, double size) {
 /// farther than this plane, so the plane is the one `nearest` would find.
 bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, double size,
                 const AssociationParams& p, Correspondence& c) {
-    if (v.count < static_cast<float>(p.plane_min_points) || !(v.thickness <= p.plane_thickness) ||
-        !(v.spread_minor >= p.plane_min_spread))
+    if (v.count < static_cast<float>(p.plane.min_points) || !(v.thickness <= p.plane.thickness) ||
+        !(v.spread_minor >= p.plane.min_spread))
         return false;
     const Vec3d n = v.normal.cast<double>(), u = v.direction.cast<double>();
     const Vec3d e = x - v.mean.cast<double>();
     const double dist = std::abs(n.dot(e));
-    if (!(dist <= p.plane_gate) || dist > faceDistance(x, size)) return false;
-    // The footprint: within plane_footprint RMS spreads of the centroid along both in-plane axes.
-    if (std::abs(u.dot(e)) > p.plane_footprint * v.spread_major ||
-        std::abs(n.cross(u).dot(e)) > p.plane_footprint * v.spread_minor)
+    if (!(dist <= p.plane.gate) || dist > faceDistance(x, size)) return false;
+    // The footprint: within plane.footprint RMS spreads of the centroid along both in-plane axes.
+    if (std::abs(u.dot(e)) > p.plane.footprint * v.spread_major ||
+        std::abs(n.cross(u).dot(e)) > p.plane.footprint * v.spread_minor)
         return false;
     c = Correspondence{};
     c.p = p_body;
@@ -209,7 +209,7 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
         // Where the finest voxel is too sparse for a plane (an open field's terrain, a map built
         // at 0.2 m), the twice as large voxel around it, validated the same way (the absolute
         // thickness keeps it off steps and clutter).
-        if ((!v || v->count < static_cast<float>(p.plane_min_points)) && vm.levels() > 1) v = vm.find(level = 1, xf);
+        if ((!v || v->count < static_cast<float>(p.plane.min_points)) && vm.levels() > 1) v = vm.find(level = 1, xf);
         if (v && voxelPlane(pts_body[i], x, *v, vm.levelSize(level), p, c)) {
             ++stats.plane;
             ++stats.voxel_planes;
@@ -233,11 +233,7 @@ AssociationParams trackingAssociation(const AssociationConfig& ac, const Localiz
     a.line_min_linearity = fp.line_min_linearity;
     a.max_fit_residual = ac.max_fit_residual;
     a.point_weight = ac.point_weight;
-    a.plane_min_points = ac.plane_min_points;
-    a.plane_thickness = ac.plane_thickness;
-    a.plane_min_spread = ac.plane_min_spread;
-    a.plane_footprint = ac.plane_footprint;
-    a.plane_gate = ac.plane_gate;
+    a.plane = ac.plane;
     return a;
 }
 

@@ -25,11 +25,11 @@ const char* associationKindName(AssociationKind k) {
 
 void AssociationConfig::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) {
     kind = associationKindFromString(c.read_string(s, "kind", associationKindName(kind)));
-    MRPT_LOAD_CONFIG_VAR(plane_min_points, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(plane_thickness, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(plane_min_spread, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(plane_footprint, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(plane_gate, double, c, s);
+    plane.min_points = c.read_int(s, "plane_min_points", plane.min_points);
+    plane.thickness = c.read_double(s, "plane_thickness", plane.thickness);
+    plane.min_spread = c.read_double(s, "plane_min_spread", plane.min_spread);
+    plane.footprint = c.read_double(s, "plane_footprint", plane.footprint);
+    plane.gate = c.read_double(s, "plane_gate", plane.gate);
     MRPT_LOAD_CONFIG_VAR(voxel_nearest_above, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
@@ -39,11 +39,15 @@ void AssociationConfig::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
     c.write(s, "kind", std::string(associationKindName(kind)), mrpt::config::MRPT_SAVE_NAME_PADDING(),
             mrpt::config::MRPT_SAVE_VALUE_PADDING(),
             "planes (voxel planes, else nearest map point in a bounded grid) | nearest (kd-tree) | voxel (voxel map)");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(plane_min_points, "planes: map points in a voxel for its plane at least");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(plane_thickness, "[m] planes: the voxel's RMS distance to its plane at most");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(plane_min_spread, "[m] planes: the voxel's RMS spread across the plane at least");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(plane_footprint, "[-] planes: the feature within this many in-plane spreads of the centroid");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(plane_gate, "[m] planes: the feature this near the voxel's plane at most");
+    const auto save = [&](const char* key, double v, const char* comment) {
+        c.write(s, key, v, mrpt::config::MRPT_SAVE_NAME_PADDING(), mrpt::config::MRPT_SAVE_VALUE_PADDING(), comment);
+    };
+    c.write(s, "plane_min_points", plane.min_points, mrpt::config::MRPT_SAVE_NAME_PADDING(),
+            mrpt::config::MRPT_SAVE_VALUE_PADDING(), "planes: map points in a voxel for its plane at least");
+    save("plane_thickness", plane.thickness, "[m] planes: the voxel's RMS distance to its plane at most");
+    save("plane_min_spread", plane.min_spread, "[m] planes: the voxel's RMS spread across the plane at least");
+    save("plane_footprint", plane.footprint, "[-] planes: the feature within this many in-plane spreads of the centroid");
+    save("plane_gate", plane.gate, "[m] planes: the feature this near the voxel's plane at most");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_nearest_above, "[m] voxel: features in thicker finest voxels (or none) use the kd-tree (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences (0: none used)");
@@ -53,12 +57,12 @@ void AssociationConfig::validate() const {
     const auto positive = [](double v, const char* key) {
         if (!(v > 0) || !std::isfinite(v)) throw ConfigError(std::string("[association] ") + key + " must be > 0");
     };
-    if (plane_min_points < 3) throw ConfigError("[association] plane_min_points must be >= 3");
-    positive(plane_thickness, "plane_thickness");
-    if (!(plane_min_spread >= 0) || !std::isfinite(plane_min_spread))
+    if (plane.min_points < 3) throw ConfigError("[association] plane_min_points must be >= 3");
+    positive(plane.thickness, "plane_thickness");
+    if (!(plane.min_spread >= 0) || !std::isfinite(plane.min_spread))
         throw ConfigError("[association] plane_min_spread must be >= 0");
-    positive(plane_footprint, "plane_footprint");
-    positive(plane_gate, "plane_gate");
+    positive(plane.footprint, "plane_footprint");
+    positive(plane.gate, "plane_gate");
     if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))
         throw ConfigError("[association] voxel_nearest_above must be >= 0");
     positive(max_fit_residual, "max_fit_residual");

@@ -332,8 +332,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     // The estimate's information and odom_alt's calibration go on from a frame tracked to its end.
     const bool tracked = !requested && !rep.diverged && !rep.recovered && !restart_ && rep.health != Health::Lost;
     last_sound_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start;
-    prediction_confirmed_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start &&
-                            !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
+    prediction_confirmed_ = last_sound_ && !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
                             rep.pred_ddeg < params_.loc.settle_deg;
     if (tracked) {
         if (sol.est_info) est_info_ = *sol.est_info;

@@ -141,15 +141,8 @@ std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist) co
     forCells(
         q, rings,
         [&](uint32_t b, uint32_t e) {
-            if (index_.empty()) {
-                for (uint32_t i = b; i < e; ++i) {
-                    const float d2 = (pts[i] - q).squaredNorm();
-                    if (d2 <= best) best = d2, best_i = i;
-                }
-                return;
-            }
             for (uint32_t j = b; j < e; ++j) {
-                const uint32_t i = index_[j];
+                const uint32_t i = index_.empty() ? j : index_[j];
                 const float d2 = (pts[i] - q).squaredNorm();
                 if (d2 <= best) best = d2, best_i = i;
             }

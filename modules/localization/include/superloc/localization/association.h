@@ -41,12 +41,7 @@ struct AssociationParams {
     /// (AssociationStats::point), not kept ([localization] point_weight)
     double point_weight = 0.0;
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
-    // planes: when a finest voxel's plane is used (AssociationConfig, [association])
-    int plane_min_points = 8;          ///< map points in the voxel at least
-    double plane_thickness = 0.03;     ///< [m] the points' RMS distance to their plane at most
-    double plane_min_spread = 0.05;    ///< [m] their RMS spread across the plane at least
-    double plane_footprint = 2.0;      ///< [-] the feature within this many spreads of the centroid, in the plane
-    double plane_gate = 0.25;          ///< [m] the feature this near the plane at most
+    PlaneRule plane;                   ///< planes: when a finest voxel's plane is used ([association])
     bool voxel() const { return kind == AssociationKind::Voxel; }
 };
 

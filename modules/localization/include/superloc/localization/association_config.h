@@ -14,20 +14,26 @@ enum class AssociationKind { Planes, Nearest, Voxel };
 AssociationKind associationKindFromString(const std::string& s);  ///< throws ConfigError naming the key
 const char* associationKindName(AssociationKind k);
 
+/// planes: when a feature takes its finest (reg_voxel) voxel's plane ([association] plane_*). One
+/// struct for the section and for the association that uses it (AssociationParams::plane).
+struct PlaneRule {
+    int min_points = 8;        ///< map points in the voxel at least
+    /// [m] the voxel's points' RMS distance to their plane (sqrt of the smallest covariance
+    /// eigenvalue) at most: an absolute bound, so a riser and a tread in one voxel fall back
+    double thickness = 0.03;
+    double min_spread = 0.05;  ///< [m] their RMS spread across the plane at least (not a line)
+    /// [-] the feature projected on the plane within this many RMS spreads of the centroid along
+    /// each in-plane axis (inside the points' footprint; 1.73 spans a uniform patch)
+    double footprint = 2.0;
+    double gate = 0.25;        ///< [m] the feature this near the voxel's plane at most
+};
+
 struct AssociationConfig : public mrpt::config::CLoadableOptions {
     /// planes | nearest | voxel (INI: its name; an unknown one is a ConfigError at load)
     AssociationKind kind = AssociationKind::Planes;
-    // planes: a feature takes its finest (reg_voxel) voxel's plane when all of these hold, else
-    // the nearest map point within [map] grid_cell and that point's neighbourhood geometry.
-    int plane_min_points = 8;        ///< map points in the voxel at least
-    /// [m] the voxel's points' RMS distance to their plane (sqrt of the smallest covariance
-    /// eigenvalue) at most: an absolute bound, so a riser and a tread in one voxel fall back
-    double plane_thickness = 0.03;
-    double plane_min_spread = 0.05;  ///< [m] their RMS spread across the plane at least (not a line)
-    /// [-] the feature projected on the plane within this many RMS spreads of the centroid along
-    /// each in-plane axis (inside the points' footprint; 1.73 spans a uniform patch)
-    double plane_footprint = 2.0;
-    double plane_gate = 0.25;        ///< [m] the feature this near the voxel's plane at most
+    /// planes: a feature takes its finest voxel's plane when this rule holds, else the nearest map
+    /// point within max_corr_dist and that point's neighbourhood geometry (INI keys plane_*).
+    PlaneRule plane;
     /// [m] voxel: a feature whose finest-level voxel is thicker than this (a step, an edge, a
     /// corner: a plane that smears the surface), or that has no finest-level voxel, is
     /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
