@@ -393,6 +393,15 @@ TEST(ActiveFusion, EveryMethodConstructsUnknownIsConfigError) {
     c.write("localization", "method", "active");
     localization::LocalizationParams lp;
     EXPECT_THROW(lp.loadFromConfigFile(c, "localization"), superloc::ConfigError);
+    // So does a negative share of the last scan's registration (0: every feature).
+    mrpt::config::CConfigFileMemory d;
+    d.write("localization", "last_scan_features", "-1");
+    lp.loadFromConfigFile(d, "localization");
+    EXPECT_EQ(lp.last_scan_features, -1);
+    EXPECT_THROW(lp.validate(), superloc::ConfigError);
+    d.write("localization", "last_scan_features", "0");
+    lp.loadFromConfigFile(d, "localization");
+    EXPECT_NO_THROW(lp.validate());
 }
 
 TEST(ActiveFusion, WithoutOdomAltTheFlagsStayAndNoPriorIsUsed) {

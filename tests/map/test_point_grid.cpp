@@ -50,6 +50,34 @@ TEST(PointGrid, NearestWithinTwoCellsIsTheBruteForceNearest) {
     EXPECT_GT(none, 100);
 }
 
+TEST(PointGrid, AHintBoundsTheSearchWithoutChangingTheAnswer) {
+    // Any point as a hint (the last round's nearest, a far one, one beyond the radius, none)
+    // gives the answer the search gives without it.
+    const std::vector<Vec3f> pts = randomPoints(3000, 5);
+    const PointGrid grid(pts, 0.5);
+    std::mt19937 rng(6);
+    std::uniform_real_distribution<float> U(-4.5f, 4.5f), J(-0.05f, 0.05f);
+    std::uniform_int_distribution<uint32_t> any(0, static_cast<uint32_t>(pts.size() - 1));
+    int hinted = 0;
+    for (int q = 0; q < 2000; ++q) {
+        const Vec3f x(U(rng), U(rng), U(rng));
+        for (const float r : {0.3f, 1.0f}) {
+            const auto plain = grid.nearest(x, r);
+            const Vec3f moved = x + Vec3f(J(rng), J(rng), J(rng));  // the feature a round later
+            const auto before = grid.nearest(moved, r);
+            for (const uint32_t hint : {before.first, any(rng), PointGrid::kNone, static_cast<uint32_t>(pts.size() + 7)}) {
+                const auto h = grid.nearest(x, r, hint);
+                EXPECT_EQ(h.first, plain.first) << "hint " << hint;
+                if (plain.first != PointGrid::kNone) {
+                    EXPECT_FLOAT_EQ(h.second, plain.second);
+                }
+                hinted += hint != PointGrid::kNone;
+            }
+        }
+    }
+    EXPECT_GT(hinted, 4000);
+}
+
 TEST(PointGrid, KnnIsTheBruteForceKnnWithinTheRadius) {
     const std::vector<Vec3f> pts = randomPoints(3000, 3);
     const PointGrid grid(pts, 0.5);

@@ -186,7 +186,7 @@ bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, d
 
 void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                      const AssociationParams& p, std::vector<Correspondence>& out, AssociationStats& stats,
-                     std::vector<uint32_t>* feature_of) {
+                     std::vector<uint32_t>* feature_of, std::vector<uint32_t>* hint) {
     // The finest voxel's plane where it is validated (one hash probe), else the nearest map point
     // within max_dist (at most two grid cells: 27 cells, 125 when nothing is within one) and its
     // precomputed geometry: nothing unbounded.
@@ -201,6 +201,7 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     };
     map::Neighbors nb;
     Correspondence c;
+    if (hint && hint->size() != pts_body.size()) hint->assign(pts_body.size(), map::PointGrid::kNone);
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
         const Vec3d x = R * pts_body[i] + t;
         const Vec3f xf = x.cast<float>();
@@ -216,7 +217,8 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
             keep(c, i, out, feature_of);
             continue;
         }
-        const auto [j, d2] = grid.nearest(xf, radius);
+        const auto [j, d2] = grid.nearest(xf, radius, hint ? (*hint)[i] : map::PointGrid::kNone);
+        if (hint && j != map::PointGrid::kNone) (*hint)[i] = j;
         if (pointCorrespondence(pts_body[i], x, j, d2, map, p, knn, nb, c, stats)) keep(c, i, out, feature_of);
     }
 }
@@ -239,12 +241,14 @@ AssociationParams trackingAssociation(const AssociationConfig& ac, const Localiz
 
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                const AssociationParams& p, std::vector<Correspondence>& out,
-               AssociationStats& stats, std::vector<uint32_t>* feature_of) {
+               AssociationStats& stats, std::vector<uint32_t>* feature_of, std::vector<uint32_t>* nearest_hint) {
     out.clear();
     stats = {};
     if (feature_of) feature_of->clear();
     switch (p.kind) {
-        case AssociationKind::Planes: associatePlanes(pts_body, T_map_body, map, p, out, stats, feature_of); break;
+        case AssociationKind::Planes:
+            associatePlanes(pts_body, T_map_body, map, p, out, stats, feature_of, nearest_hint);
+            break;
         case AssociationKind::Voxel: associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of); break;
         case AssociationKind::Nearest: associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of); break;
     }

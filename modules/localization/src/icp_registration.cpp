@@ -135,13 +135,15 @@ class IcpRegistration::Schedule {
 };
 
 void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap,
-                                  std::vector<uint32_t>& feature_of, FrameSolution& sol) const {
+                                  Scratch& scratch, FrameSolution& sol) const {
     // Each correspondence carries its point's time in the sweep (the sweep's share of the pose's
     // covariance, Tracker::sweepCovariance).
     const std::vector<float>& rel_time = p.features->rel_time;
     const bool timed = rel_time.size() == p.features->pts_body.size();
     const auto t0 = Clock::now();
-    associate(p.features->pts_body, T, *p.map, ap, sol.corr, sol.stats, timed ? &feature_of : nullptr);
+    std::vector<uint32_t>& feature_of = scratch.feature_of;
+    associate(p.features->pts_body, T, *p.map, ap, sol.corr, sol.stats, timed ? &feature_of : nullptr,
+              &scratch.nearest_hint);
     if (timed)
         for (size_t j = 0; j < sol.corr.size(); ++j) sol.corr[j].rel_time = rel_time[feature_of[j]];
     sol.report.ms.associate += msSince(t0);
@@ -150,13 +152,13 @@ void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, c
 IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, const Schedule& s, int r, int rounds,
                                               const fusion::FrameState& prev_saved,
                                               std::optional<fusion::RelativePosePrior>& prior,
-                                              std::vector<uint32_t>& feature_of, FrameSolution& sol) const {
+                                              Scratch& scratch, FrameSolution& sol) const {
     TrackReport& rep = sol.report;
     const bool fused = p.purpose == SolvePurpose::Track;  // odom_alt prior, IMU window
     const double kernel = s.kernel();
     const SE3d T_before = sol.state.T_map_imu();
     // Step 3: associate at the current estimate (the prediction on round 0).
-    associateAt(p, T_before, s.association(), feature_of, sol);
+    associateAt(p, T_before, s.association(), scratch, sol);
     if (s.measuresRisk(r)) {
         // Step 4: alignment risk before the optimisation at this resolution (doc/method.md).
         const auto t0 = Clock::now();
@@ -229,12 +231,12 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
                    p.may_settle, p.purpose == SolvePurpose::LastScan);
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
-    std::vector<uint32_t> feature_of;
+    Scratch scratch;
     std::optional<fusion::RelativePosePrior> prior;
     sol.stats = {};
     sol.corr.clear();
     for (int r = 0; r < rounds; ++r, sched.next()) {
-        const Round o = round(p, sched, r, rounds, prev_saved, prior, feature_of, sol);
+        const Round o = round(p, sched, r, rounds, prev_saved, prior, scratch, sol);
         if (o.end == Round::End::Sparse) {
             if (sched.finer()) continue;  // nothing at this level: try the next finer one
             rep.diverged = true;
@@ -256,7 +258,7 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
         // frame's quality is measured at full resolution.
         AssociationParams ap = assoc_;
         ap.kind = AssociationKind::Voxel;
-        associateAt(p, sol.state.T_map_imu(), ap, feature_of, sol);
+        associateAt(p, sol.state.T_map_imu(), ap, scratch, sol);
     }
     if (prior) rep.prior_weight = (prior->sqrt_info.transpose() * prior->sqrt_info).diagonal();
     if (p.purpose == SolvePurpose::Track) sol.prior = prior;

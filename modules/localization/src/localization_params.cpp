@@ -40,6 +40,7 @@ void LocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     MRPT_LOAD_CONFIG_VAR(max_cv_gap, double, c, s);
     MRPT_LOAD_CONFIG_VAR(motion_from_last_scan, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(last_scan_yaw_step, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(last_scan_features, int, c, s);
     MRPT_LOAD_CONFIG_VAR(sweep_velocity, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(converged_deg, double, c, s);
@@ -68,6 +69,7 @@ void LocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, cons
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_cv_gap, "[s] no IMU: a longer gap means unknown velocity (coarse start)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(motion_from_last_scan, "no IMU: unknown velocity measured against the last scan first");
     MRPT_SAVE_CONFIG_VAR_COMMENT(last_scan_yaw_step, "[deg] that motion's first guess: turns about the vertical in these steps (0: none)");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(last_scan_features, "that registration's features: every k-th, at most this many (0: all)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(sweep_velocity, "unknown velocity, timed points: estimate the sweep's velocity for deskew");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_xyz, "[m] stop when the round's update is below");
     MRPT_SAVE_CONFIG_VAR_COMMENT(converged_deg, "[deg] ...and the rotation update below");
@@ -94,6 +96,7 @@ void LocalizationParams::validate() const {
     positive(max_corr_dist_init, "max_corr_dist_init");
     if (!(last_scan_yaw_step >= 0 && last_scan_yaw_step <= 180))
         throw ConfigError("[localization] last_scan_yaw_step must be in [0, 180] deg");
+    if (last_scan_features < 0) throw ConfigError("[localization] last_scan_features must be >= 0 (0: all)");
     if (rounds < 1) throw ConfigError("[localization] rounds must be >= 1");
     if (rounds_init < 1) throw ConfigError("[localization] rounds_init must be >= 1");
     positive(max_cv_gap, "max_cv_gap");

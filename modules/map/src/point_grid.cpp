@@ -132,12 +132,17 @@ int ringsFor(float& r, double cell) {
 }
 }  // namespace
 
-std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist) const {
+std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist, uint32_t hint) const {
     float r = max_dist;
     const int rings = ringsFor(r, cell_);
     float best = r * r;
     uint32_t best_i = kNone;
     const std::vector<Vec3f>& pts = *pts_;
+    if (hint < pts.size()) {
+        // Any point bounds the search: a nearer one lies in a cell whose box is nearer still.
+        const float d2 = (pts[hint] - q).squaredNorm();
+        if (d2 <= best) best = d2, best_i = hint;
+    }
     forCells(
         q, rings,
         [&](uint32_t b, uint32_t e) {

@@ -59,11 +59,14 @@ struct AssociationStats {
 
 /// Appends (after clearing) one correspondence per associated feature to `out`; `feature_of`
 /// (if not null) receives the feature index of each correspondence. pts_body are the features
-/// in the body frame, T_map_body the pose to associate at.
+/// in the body frame, T_map_body the pose to associate at. `nearest_hint` (planes, if not null):
+/// per feature, a map point of this map (or map::PointGrid::kNone), e.g. the one the last round
+/// found; the bounded search starts from its distance, so that only the cells nearer than it are
+/// visited, and it receives the nearest point found. The answers are those without it.
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                const map::PriorMap& map, const AssociationParams& p,
                std::vector<Correspondence>& out, AssociationStats& stats,
-               std::vector<uint32_t>* feature_of = nullptr);
+               std::vector<uint32_t>* feature_of = nullptr, std::vector<uint32_t>* nearest_hint = nullptr);
 
 /// Fraction of features whose nearest-map-point residual (plane/line/point distance of their
 /// correspondence) is below `inlier_dist` at T_map_body, and the RMS of those residuals.

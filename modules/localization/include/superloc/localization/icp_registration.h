@@ -29,15 +29,19 @@ class IcpRegistration final : public Registration {
         enum class End { Solved, Sparse, Unusable } end = End::Solved;
         double step_xyz = 0, step_rad = 0;
     };
+    /// One solve's working vectors, kept across its rounds: each correspondence's feature, and
+    /// each feature's nearest map point of the last round (associate's nearest_hint).
+    struct Scratch {
+        std::vector<uint32_t> feature_of, nearest_hint;
+    };
     /// Round `r` of `rounds` at `s`'s resolution (steps 3-5): associate at sol's state, the risk
     /// and the fusion's prior where `s` says, the joint solve from the window's previous state
     /// `prev_saved`, the fusion's amendment; sol and its report get what it solved.
     Round round(const RegistrationProblem& p, const Schedule& s, int r, int rounds, const fusion::FrameState& prev_saved,
-                std::optional<fusion::RelativePosePrior>& prior, std::vector<uint32_t>& feature_of,
-                FrameSolution& sol) const;
+                std::optional<fusion::RelativePosePrior>& prior, Scratch& scratch, FrameSolution& sol) const;
     /// sol's correspondences at T with `ap` (each with its point's time in the sweep).
-    void associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap,
-                     std::vector<uint32_t>& feature_of, FrameSolution& sol) const;
+    void associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap, Scratch& scratch,
+                     FrameSolution& sol) const;
 
     LocalizationParams lp_;
     fusion::FusionParams fusion_;

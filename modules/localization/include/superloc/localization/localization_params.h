@@ -41,6 +41,9 @@ struct LocalizationParams : public mrpt::config::CLoadableOptions {
     /// which most of the frame's features find the last scan within 1 m (no turn unless one
     /// scores a fifth more); 0: from no motion only (doc/localizer.md, "Unknown velocity")
     double last_scan_yaw_step = 30;
+    /// that registration uses every k-th feature, k chosen so that at most this many remain (the
+    /// motion only has to land the map solve inside its basin, which then uses them all); 0: all
+    int last_scan_features = 500;
     /// a frame of unknown velocity whose points carry times (deskew on) estimates the sweep's
     /// translation velocity with its pose, instead of deskewing by rotation alone
     bool sweep_velocity = true;

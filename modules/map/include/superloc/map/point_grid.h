@@ -38,7 +38,10 @@ class PointGrid {
     double cell() const { return cell_; }
     /// The nearest point to q within max_dist (clamped to 2 cell()): its index in the points
     /// given to the constructor and its squared distance; {kNone, inf} when there is none.
-    std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist) const;
+    /// `hint` (kNone: none): any point's index, e.g. the last answer for a query nearby; the
+    /// search starts from its distance, so only cells nearer than it are visited. The answer is
+    /// the same.
+    std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist, uint32_t hint = kNone) const;
     /// Up to k points within max_dist (clamped to 2 cell()) of q, nearest first.
     void knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx, std::vector<float>& sq_dists) const;
     /// Cells holding at least one point.
