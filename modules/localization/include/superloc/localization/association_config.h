@@ -19,8 +19,9 @@ const char* associationKindName(AssociationKind k);
 struct PlaneRule {
     int min_points = 8;        ///< map points in the voxel at least
     /// [m] the voxel's points' RMS distance to their plane (sqrt of the smallest covariance
-    /// eigenvalue) at most: an absolute bound, so a riser and a tread in one voxel fall back
-    double thickness = 0.03;
+    /// eigenvalue) at most: an absolute bound, so a riser and a tread in one voxel fall back,
+    /// and so does a rough cave wall (doc/map.md)
+    double thickness = 0.015;
     double min_spread = 0.05;  ///< [m] their RMS spread across the plane at least (not a line)
     /// [-] the feature projected on the plane within this many RMS spreads of the centroid along
     /// each in-plane axis (inside the points' footprint; 1.73 spans a uniform patch)
