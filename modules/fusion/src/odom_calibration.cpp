@@ -212,6 +212,35 @@ Vec6d OdomCalibration::sigma(const SE3d& odom) const {
     return s;
 }
 
+Vec6d OdomCalibration::measuredHorizon() const {
+    Vec6d h = Vec6d::Zero();
+    for (int k = 0; k < 6; ++k)
+        for (size_t i = 0; i < axes_[k].blocks.size(); ++i)
+            if (axes_[k].cnt[i] >= p_.min_blocks - 1e-9 && axes_[k].len[i] > 0) h[k] = p_.horizons[i];
+    return h;
+}
+
+Vec6d OdomCalibration::worthSigma(const SE3d& odom) const {
+    Vec6d s = sigma(odom);
+    const Vec6d H = measuredHorizon();
+    const double d = odom.translation().norm();
+    for (int k = 0; k < 6; ++k) {
+        const Axis& a = axes_[k];
+        const double D = a.since_m;
+        if (!std::isfinite(s[k]) || !(H[k] > 0) || !(D + d > H[k])) continue;
+        // V(D) = wa D + wb D^2 up to H, V(H) (D / H)^3 beyond (never below the model itself).
+        const auto V = [&](double x) {
+            const double model = a.wa * x + a.wb * x * x;
+            if (x <= H[k]) return model;
+            const double r = x / H[k];
+            return std::max(model, (a.wa * H[k] + a.wb * H[k] * H[k]) * r * r * r);
+        };
+        const double var = V(D + d) - V(D);
+        s[k] = std::max(s[k], std::sqrt(std::max(0.0, var)));
+    }
+    return s;
+}
+
 Vec6d OdomCalibration::shrink() const {
     Vec6d v;
     for (int k = 0; k < 6; ++k) v[k] = shrinkAt(axes_[k], axes_[k].since_m);
