@@ -333,6 +333,23 @@ TEST(PlanesAssociation, AnswersLikeNearestInABoxRoom) {
         ++compared;
     }
     EXPECT_GT(compared, pts.size() * 9 / 10);
+    // Without voxel planes (a frame weak in translation, IcpRegistration) every feature takes the
+    // bounded fallback: the kd-tree's answer exactly, its map point and that point's geometry.
+    ap.kind = AssociationKind::Planes;
+    ap.voxel_planes = false;
+    std::vector<Correspondence> points;
+    std::vector<uint32_t> of_points;
+    AssociationStats sq;
+    associate(body, T, m, ap, points, sq, &of_points);
+    EXPECT_EQ(sq.voxel_planes, 0u);
+    ASSERT_EQ(points.size(), nearest.size());
+    EXPECT_EQ(of_points, of_nearest);
+    for (size_t k = 0; k < points.size(); ++k) {
+        EXPECT_EQ(points[k].type, nearest[k].type);
+        EXPECT_LT((points[k].q - nearest[k].q).norm(), 1e-9);
+        EXPECT_LT((points[k].n - nearest[k].n).norm(), 1e-9);
+        EXPECT_DOUBLE_EQ(points[k].weight, nearest[k].weight);
+    }
 }
 
 TEST(PlanesAssociation, ASurfaceBeyondTheVoxelsFaceIsNotHiddenByItsPlane) {

@@ -205,13 +205,14 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
         const Vec3d x = R * pts_body[i] + t;
         const Vec3f xf = x.cast<float>();
-        const map::VoxelStats* v = vm.levels() > 0 ? vm.find(0, xf) : nullptr;
+        const map::VoxelStats* v = p.voxel_planes && vm.levels() > 0 ? vm.find(0, xf) : nullptr;
         int level = 0;
         // Where the finest voxel is too sparse for a plane (an open field's terrain, a map built
         // at 0.2 m), the twice as large voxel around it, validated the same way (the absolute
         // thickness keeps it off steps and clutter).
-        if ((!v || v->count < static_cast<float>(p.plane.min_points)) && vm.levels() > 1) v = vm.find(level = 1, xf);
-        if (v && voxelPlane(pts_body[i], x, *v, vm.levelSize(level), p, c)) {
+        if (p.voxel_planes && (!v || v->count < static_cast<float>(p.plane.min_points)) && vm.levels() > 1)
+            v = vm.find(level = 1, xf);
+        if (p.voxel_planes && v && voxelPlane(pts_body[i], x, *v, vm.levelSize(level), p, c)) {
             ++stats.plane;
             ++stats.voxel_planes;
             keep(c, i, out, feature_of);

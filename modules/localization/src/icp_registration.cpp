@@ -142,7 +142,9 @@ void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, c
     const bool timed = rel_time.size() == p.features->pts_body.size();
     const auto t0 = Clock::now();
     std::vector<uint32_t>& feature_of = scratch.feature_of;
-    associate(p.features->pts_body, T, *p.map, ap, sol.corr, sol.stats, timed ? &feature_of : nullptr,
+    AssociationParams a = ap;
+    if (scratch.point_geometry) a.voxel_planes = false;
+    associate(p.features->pts_body, T, *p.map, a, sol.corr, sol.stats, timed ? &feature_of : nullptr,
               &scratch.nearest_hint);
     if (timed)
         for (size_t j = 0; j < sol.corr.size(); ++j) sol.corr[j].rel_time = rel_time[feature_of[j]];
@@ -162,10 +164,24 @@ IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, cons
     if (s.measuresRisk(r)) {
         // Step 4: alignment risk before the optimisation at this resolution (doc/method.md).
         const auto t0 = Clock::now();
-        const auto risk = risk::computeAlignmentRisk(sol.corr, T_before, p.features->T_imu_lidar.translation(), risk_);
+        double assoc_ms = 0;
+        const Vec3d lever = p.features->T_imu_lidar.translation();
+        auto risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
+        if (s.association().kind == AssociationKind::Planes && !scratch.point_geometry &&
+            (risk.degenerate[0] || risk.degenerate[1] || risk.degenerate[2])) {
+            // Weak in translation (a corridor's axis): what holds that axis is a surface's
+            // texture, which a voxel plane smooths away (its centroid and mean normal); each map
+            // point's own geometry keeps it, as `nearest` does. The frame is associated and its
+            // risk measured again that way, and keeps it for its later rounds (doc/map.md).
+            scratch.point_geometry = true;
+            const double before = rep.ms.associate;
+            associateAt(p, T_before, s.association(), scratch, sol);
+            assoc_ms = rep.ms.associate - before;  // counted there, not in the risk's time
+            risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
+        }
         rep.setRisk(risk);
         if (fused) prior = p.fusion->prior(sol.corr, T_before, risk, sol);
-        rep.ms.risk += msSince(t0);
+        rep.ms.risk += msSince(t0) - assoc_ms;
     }
     Round out;
     if (sol.corr.size() < kMinCorrespondences && !p.imu) {

@@ -42,6 +42,11 @@ struct AssociationParams {
     double point_weight = 0.0;
     size_t line_knn = 6;               ///< nearest: neighbours used for a line's direction
     PlaneRule plane;                   ///< planes: when a finest voxel's plane is used ([association])
+    /// planes: false gives every feature the bounded fallback (its nearest map point's own
+    /// geometry, as `nearest`), no voxel plane: what a frame the risk step finds weak in
+    /// translation uses, where a voxel plane's smoothing would drop the little a surface's
+    /// texture says along the weak axis (IcpRegistration, doc/map.md)
+    bool voxel_planes = true;
     bool voxel() const { return kind == AssociationKind::Voxel; }
 };
 

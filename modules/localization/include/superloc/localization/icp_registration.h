@@ -29,10 +29,12 @@ class IcpRegistration final : public Registration {
         enum class End { Solved, Sparse, Unusable } end = End::Solved;
         double step_xyz = 0, step_rad = 0;
     };
-    /// One solve's working vectors, kept across its rounds: each correspondence's feature, and
-    /// each feature's nearest map point of the last round (associate's nearest_hint).
+    /// One solve's working state, kept across its rounds: each correspondence's feature, each
+    /// feature's nearest map point of the last round (associate's nearest_hint), and whether the
+    /// risk step found the frame weak in translation (planes: no voxel planes from then on).
     struct Scratch {
         std::vector<uint32_t> feature_of, nearest_hint;
+        bool point_geometry = false;
     };
     /// Round `r` of `rounds` at `s`'s resolution (steps 3-5): associate at sol's state, the risk
     /// and the fusion's prior where `s` says, the joint solve from the window's previous state
