@@ -167,15 +167,16 @@ IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, cons
         double assoc_ms = 0;
         const Vec3d lever = p.features->T_imu_lidar.translation();
         auto risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
-        if (s.association().kind == AssociationKind::Planes && !scratch.point_geometry &&
-            (risk.degenerate[0] || risk.degenerate[1] || risk.degenerate[2])) {
-            // Weak in translation (a corridor's axis): what holds that axis is a surface's
+        const AssociationParams ap = s.association();
+        if (ap.kind == AssociationKind::Planes && !scratch.point_geometry &&
+            risk.gamma.head<3>().minCoeff() < ap.points_below_gamma) {
+            // Weak in translation (a corridor's axis; [association] points_below_gamma): what holds that axis is a surface's
             // texture, which a voxel plane smooths away (its centroid and mean normal); each map
             // point's own geometry keeps it, as `nearest` does. The frame is associated and its
             // risk measured again that way, and keeps it for its later rounds (doc/map.md).
             scratch.point_geometry = true;
             const double before = rep.ms.associate;
-            associateAt(p, T_before, s.association(), scratch, sol);
+            associateAt(p, T_before, ap, scratch, sol);
             assoc_ms = rep.ms.associate - before;  // counted there, not in the risk's time
             risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
         }

@@ -40,6 +40,10 @@ struct AssociationConfig : public mrpt::config::CLoadableOptions {
     /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
     double voxel_nearest_above = 0.0;
     double max_fit_residual = 0.1;   ///< [m] map plane fit RMS giving weight 0
+    /// [-] planes: a frame whose first round finds a translation axis's gamma below this is
+    /// associated without voxel planes (every feature on the bounded fallback, nearest's answer):
+    /// a weak axis is held by the surfaces' texture, which voxel planes smooth away (doc/map.md)
+    double points_below_gamma = 0.5;
     /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
     /// and slow to converge from a far initial pose, so off by default)
     double point_weight = 0.0;
