@@ -214,6 +214,12 @@ std::vector<BadInput> cases() {
     c.push_back({"LocalizeNegativeMapVoxel", L,
                  [](const std::string& d) { return localize(d, "", {"--set", "map.voxel_size=-1"}); }, 1,
                  {"[map] voxel_size must be >= 0"}});
+    c.push_back({"LocalizePointsBelowGammaOutOfRange", L,
+                 [](const std::string& d) { return localize(d, "", {"--set", "association.points_below_gamma=1.5"}); },
+                 1, {"[association] points_below_gamma must be in [0, 1]"}});
+    c.push_back({"LocalizeNegativeLastScanFeatures", L,
+                 [](const std::string& d) { return localize(d, "", {"--set", "localization.last_scan_features=-5"}); },
+                 1, {"[localization] last_scan_features must be >= 0"}});
     c.push_back({"LocalizeTumRepeatedTime", L,
                  [](const std::string& d) {
                      write(d + "/start.tum", "0.0 0 0 0 0 0 0 1\n0.0 1 0 0 0 0 0 1\n");
