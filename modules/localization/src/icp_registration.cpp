@@ -249,6 +249,9 @@ void IcpRegistration::solve(const RegistrationProblem& p, FrameSolution& sol) co
     const int rounds = p.wide ? lp_.rounds_init : lp_.rounds;
     const fusion::FrameState prev_saved = p.prev ? *p.prev : fusion::FrameState{};
     Scratch scratch;
+    // The last frame was weak in translation: no voxel planes from the first round (one
+    // association saved; the risk is then measured on the points' own geometry).
+    scratch.point_geometry = p.without_voxel_planes && base.kind == AssociationKind::Planes;
     std::optional<fusion::RelativePosePrior> prior;
     sol.stats = {};
     sol.corr.clear();

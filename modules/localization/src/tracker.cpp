@@ -174,6 +174,7 @@ void Tracker::trackedSolve(const Registration& reg, Frame& f, FrameSolution& sol
     RegistrationProblem p = problem(f, SolvePurpose::Track, wide, imu);
     p.fusion = &fusion;
     p.may_settle = may_settle && !wide;
+    p.without_voxel_planes = last_weak_ && !wide;
     reg.solve(p, sol);
 }
 
@@ -334,6 +335,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     last_sound_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start;
     prediction_confirmed_ = last_sound_ && !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
                             rep.pred_ddeg < params_.loc.settle_deg;
+    last_weak_ = tracked && rep.gamma.head<3>().minCoeff() < params_.assoc.points_below_gamma;
     if (tracked) {
         if (sol.est_info) est_info_ = *sol.est_info;
         est_info_.commit(state, sol.scan_info);

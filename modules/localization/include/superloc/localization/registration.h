@@ -87,6 +87,10 @@ struct RegistrationProblem {
     /// decides; nothing else sets it), so a round that barely moves the pose may end the kernel's
     /// annealing ([localization] settle_xyz)
     bool may_settle = false;
+    /// purpose Track: the last frame was weak in translation ([association] points_below_gamma),
+    /// so this one is associated without voxel planes from its first round (the Tracker decides;
+    /// a frame not carried so still switches on its own risk, IcpRegistration::round)
+    bool without_voxel_planes = false;
 };
 
 class Registration {

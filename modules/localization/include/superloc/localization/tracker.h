@@ -140,6 +140,10 @@ class Tracker {
     /// (its prediction need not have been confirmed): with settle_after_scan the next frame's
     /// solve may settle
     bool last_sound_ = false;
+    /// The last frame, tracked, was weak in translation (a translation gamma below [association]
+    /// points_below_gamma): the next starts without voxel planes
+    /// (RegistrationProblem::without_voxel_planes)
+    bool last_weak_ = false;
     fusion::FrameState prev_;
     std::optional<fusion::FrameState> prev_prev_;  ///< for the constant-velocity model
     /// The IMU window's prior on the previous state (FusionParams::window = marginalized): the
