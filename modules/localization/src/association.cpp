@@ -237,7 +237,6 @@ AssociationParams trackingAssociation(const AssociationConfig& ac, const Localiz
     a.max_fit_residual = ac.max_fit_residual;
     a.point_weight = ac.point_weight;
     a.plane = ac.plane;
-    a.points_below_gamma = ac.points_below_gamma;
     return a;
 }
 

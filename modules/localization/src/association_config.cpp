@@ -30,9 +30,9 @@ void AssociationConfig::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     plane.min_spread = c.read_double(s, "plane_min_spread", plane.min_spread);
     plane.footprint = c.read_double(s, "plane_footprint", plane.footprint);
     plane.gate = c.read_double(s, "plane_gate", plane.gate);
+    plane.points_below_gamma = c.read_double(s, "points_below_gamma", plane.points_below_gamma);
     MRPT_LOAD_CONFIG_VAR(voxel_nearest_above, double, c, s);
     MRPT_LOAD_CONFIG_VAR(max_fit_residual, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(points_below_gamma, double, c, s);
     MRPT_LOAD_CONFIG_VAR(point_weight, double, c, s);
 }
 
@@ -49,9 +49,10 @@ void AssociationConfig::saveToConfigFile(mrpt::config::CConfigFileBase& c, const
     save("plane_min_spread", plane.min_spread, "[m] planes: the voxel's RMS spread across the plane at least");
     save("plane_footprint", plane.footprint, "[-] planes: the feature within this many in-plane spreads of the centroid");
     save("plane_gate", plane.gate, "[m] planes: the feature this near the voxel's plane at most");
+    save("points_below_gamma", plane.points_below_gamma,
+         "[-] planes: a frame with a translation gamma below this takes no voxel plane (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(voxel_nearest_above, "[m] voxel: features in thicker finest voxels (or none) use the kd-tree (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(max_fit_residual, "[m] map plane fit RMS giving weight 0");
-    MRPT_SAVE_CONFIG_VAR_COMMENT(points_below_gamma, "[-] planes: a frame with a translation gamma below this takes no voxel plane (0: never)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(point_weight, "[-] weight of point-to-point correspondences (0: none used)");
 }
 
@@ -68,7 +69,7 @@ void AssociationConfig::validate() const {
     if (!(voxel_nearest_above >= 0) || !std::isfinite(voxel_nearest_above))
         throw ConfigError("[association] voxel_nearest_above must be >= 0");
     positive(max_fit_residual, "max_fit_residual");
-    if (!(points_below_gamma >= 0 && points_below_gamma <= 1.0 + 1e-12))
+    if (!(plane.points_below_gamma >= 0 && plane.points_below_gamma <= 1.0 + 1e-12))
         throw ConfigError("[association] points_below_gamma must be in [0, 1]");
     if (!(point_weight >= 0) || !std::isfinite(point_weight)) throw ConfigError("[association] point_weight must be >= 0");
 }

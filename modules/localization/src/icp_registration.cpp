@@ -159,30 +159,32 @@ IcpRegistration::Round IcpRegistration::round(const RegistrationProblem& p, cons
     const bool fused = p.purpose == SolvePurpose::Track;  // odom_alt prior, IMU window
     const double kernel = s.kernel();
     const SE3d T_before = sol.state.T_map_imu();
+    const AssociationParams ap = s.association();
     // Step 3: associate at the current estimate (the prediction on round 0).
-    associateAt(p, T_before, s.association(), scratch, sol);
+    associateAt(p, T_before, ap, scratch, sol);
     if (s.measuresRisk(r)) {
         // Step 4: alignment risk before the optimisation at this resolution (doc/method.md).
-        const auto t0 = Clock::now();
-        double assoc_ms = 0;
-        const Vec3d lever = p.features->T_imu_lidar.translation();
-        auto risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
-        const AssociationParams ap = s.association();
-        if (ap.kind == AssociationKind::Planes && !scratch.point_geometry &&
-            risk.gamma.head<3>().minCoeff() < ap.points_below_gamma) {
-            // Weak in translation (a corridor's axis; [association] points_below_gamma): what holds that axis is a surface's
-            // texture, which a voxel plane smooths away (its centroid and mean normal); each map
-            // point's own geometry keeps it, as `nearest` does. The frame is associated and its
-            // risk measured again that way, and keeps it for its later rounds (doc/map.md).
+        const auto assessRisk = [&] {
+            const auto t0 = Clock::now();
+            auto risk = risk::computeAlignmentRisk(sol.corr, T_before, p.features->T_imu_lidar.translation(), risk_);
+            rep.ms.risk += msSince(t0);
+            return risk;
+        };
+        auto risk = assessRisk();
+        if (ap.kind == AssociationKind::Planes && !scratch.point_geometry && ap.plane.wantsPointGeometry(risk.gamma)) {
+            // Weak in translation (a corridor's axis; [association] points_below_gamma): what
+            // holds that axis is a surface's texture, which a voxel plane smooths away (its
+            // centroid and mean normal); each map point's own geometry keeps it, as `nearest`
+            // does. The frame is associated and its risk measured again that way, and keeps it
+            // for its later rounds (doc/map.md).
             scratch.point_geometry = true;
-            const double before = rep.ms.associate;
             associateAt(p, T_before, ap, scratch, sol);
-            assoc_ms = rep.ms.associate - before;  // counted there, not in the risk's time
-            risk = risk::computeAlignmentRisk(sol.corr, T_before, lever, risk_);
+            risk = assessRisk();
         }
+        const auto t0 = Clock::now();
         rep.setRisk(risk);
         if (fused) prior = p.fusion->prior(sol.corr, T_before, risk, sol);
-        rep.ms.risk += msSince(t0) - assoc_ms;
+        rep.ms.risk += msSince(t0);
     }
     Round out;
     if (sol.corr.size() < kMinCorrespondences && !p.imu) {

@@ -74,15 +74,13 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
                     : fusion::odomIncrementSigma(*f.odom_cov_prev, *f.odom_cov_cur, p_);
     fusion::RelativePosePrior p;
     p.delta = *f.odom_delta;
-    // What it is worth for the pose's covariance where that differs (beyond the longest block
-    // its worth has measured: OdomCalibration::worthSigma); NaN elsewhere.
-    Vec6d beyond = Vec6d::Constant(std::numeric_limits<double>::quiet_NaN());
+    // What it is worth for the pose's covariance (OdomCalibration::sigma's `worth`: wider beyond
+    // the longest block measured); NaN where not calibrated.
+    Vec6d worth = Vec6d::Constant(std::numeric_limits<double>::quiet_NaN());
     if (p_.odom_calibration) {
-        const Vec6d cal = calib_.sigma(*f.odom_delta), w = calib_.worthSigma(*f.odom_delta);
-        for (int k = 0; k < 6; ++k) {
+        const Vec6d cal = calib_.sigma(*f.odom_delta, &worth);
+        for (int k = 0; k < 6; ++k)
             if (std::isfinite(cal[k])) sigma[k] = cal[k];
-            if (std::isfinite(w[k]) && w[k] > cal[k]) beyond[k] = w[k];
-        }
         p.delta = calib_.correct(*f.odom_delta);
     }
     // The innovation test: odom_alt's (corrected) motion against the IMU-carried prediction's,
@@ -101,13 +99,11 @@ std::optional<fusion::RelativePosePrior> OdomFusionActive::prior(const FusionFra
     const Vec6d w_odom = sigma.cwiseAbs2().cwiseInverse();
     const Mat6d W = f.est.G * w_odom.asDiagonal() * f.est.G;
     p.sqrt_info = fusion::sqrtInfo(W);
-    // The pose's covariance takes it at what it is worth beyond the blocks measured (never
-    // above what the innovation test left).
-    Vec6d worth_sigma = sigma;
-    bool widened = false;
-    for (int k = 0; k < 6; ++k)
-        if (std::isfinite(beyond[k]) && beyond[k] > sigma[k]) worth_sigma[k] = beyond[k], widened = true;
-    if (widened) p.worth = Mat6d(f.est.G * worth_sigma.cwiseAbs2().cwiseInverse().asDiagonal() * f.est.G);
+    // The pose's covariance takes it at what it is worth, where that is wider than what the
+    // solve weighs (never surer than what the innovation test left).
+    const Vec6d worth_sigma = sigma.cwiseMax(worth.unaryExpr([](double v) { return std::isfinite(v) ? v : 0.0; }));
+    if (worth_sigma != sigma)
+        p.worth = Mat6d(f.est.G * worth_sigma.cwiseAbs2().cwiseInverse().asDiagonal() * f.est.G);
     return p;
 }
 

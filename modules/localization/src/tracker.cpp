@@ -335,7 +335,7 @@ void Tracker::end(const Frame& f, const fusion::FrameState& state, const FrameSo
     last_sound_ = tracked && !f.first && rep.health == Health::Ok && rep.converged && !rep.coarse_start;
     prediction_confirmed_ = last_sound_ && !rep.motion_from_scan && rep.pred_dxyz < params_.loc.settle_xyz &&
                             rep.pred_ddeg < params_.loc.settle_deg;
-    last_weak_ = tracked && rep.gamma.head<3>().minCoeff() < params_.assoc.points_below_gamma;
+    last_weak_ = tracked && params_.assoc.plane.wantsPointGeometry(rep.gamma);
     if (tracked) {
         if (sol.est_info) est_info_ = *sol.est_info;
         est_info_.commit(state, sol.scan_info);

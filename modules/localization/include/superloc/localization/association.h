@@ -47,9 +47,6 @@ struct AssociationParams {
     /// translation uses, where a voxel plane's smoothing would drop the little a surface's
     /// texture says along the weak axis (IcpRegistration, doc/map.md)
     bool voxel_planes = true;
-    /// planes: the translation gamma below which a frame takes no voxel plane
-    /// ([association] points_below_gamma)
-    double points_below_gamma = 0.5;
     bool voxel() const { return kind == AssociationKind::Voxel; }
 };
 

@@ -2,6 +2,7 @@
 // (association.h, doc/map.md "The planes association").
 #pragma once
 
+#include <superloc/core/types.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>
@@ -27,6 +28,14 @@ struct PlaneRule {
     /// each in-plane axis (inside the points' footprint; 1.73 spans a uniform patch)
     double footprint = 2.0;
     double gate = 0.25;        ///< [m] the feature this near the voxel's plane at most
+    /// [-] a frame whose first round finds a translation axis's gamma below this takes no voxel
+    /// plane at all (every feature on the bounded fallback, nearest's answer): a weak axis is held
+    /// by the surfaces' texture, which voxel planes smooth away ([association]
+    /// points_below_gamma, doc/map.md)
+    double points_below_gamma = 0.5;
+    /// Whether a frame of risk gammas `gamma` (x y z roll pitch yaw) is weak enough in
+    /// translation to take no voxel plane.
+    bool wantsPointGeometry(const Vec6d& gamma) const { return gamma.head<3>().minCoeff() < points_below_gamma; }
 };
 
 struct AssociationConfig : public mrpt::config::CLoadableOptions {
@@ -40,10 +49,6 @@ struct AssociationConfig : public mrpt::config::CLoadableOptions {
     /// associated with its nearest map point instead (kd-tree, as `nearest`); 0: never
     double voxel_nearest_above = 0.0;
     double max_fit_residual = 0.1;   ///< [m] map plane fit RMS giving weight 0
-    /// [-] planes: a frame whose first round finds a translation axis's gamma below this is
-    /// associated without voxel planes (every feature on the bounded fallback, nearest's answer):
-    /// a weak axis is held by the surfaces' texture, which voxel planes smooth away (doc/map.md)
-    double points_below_gamma = 0.5;
     /// [-] weight of point-to-point correspondences (nearest map point: biased by the map voxel
     /// and slow to converge from a far initial pose, so off by default)
     double point_weight = 0.0;
