@@ -195,20 +195,32 @@ SE3d OdomCalibration::correct(const SE3d& odom) const {
     return out;
 }
 
-Vec6d OdomCalibration::sigma(const SE3d& odom) const {
+Vec6d OdomCalibration::sigma(const SE3d& odom, Vec6d* worth) const {
     const double d = odom.translation().norm();
-    Vec6d s;
+    const Vec6d H = measuredHorizon();
+    Vec6d s, w;
     for (int k = 0; k < 6; ++k) {
         const Axis& a = axes_[k];
         if (!calibrated(k) || !a.worth) {
-            s[k] = std::numeric_limits<double>::quiet_NaN();
+            s[k] = w[k] = std::numeric_limits<double>::quiet_NaN();
             continue;
         }
         const double D = a.since_m;
+        // V(x) = wa x + wb x^2, the frame's share V(D + d) - V(D).
         const double var = a.wa * d + a.wb * ((D + d) * (D + d) - D * D);
         const double floor = k >= 3 ? p_.sigma_floor_rot : p_.sigma_floor_xyz;
-        s[k] = std::max(floor, std::sqrt(std::max(0.0, var)));
+        s[k] = w[k] = std::max(floor, std::sqrt(std::max(0.0, var)));
+        if (!(H[k] > 0) || !(D + d > H[k])) continue;
+        // The worth beyond H: V(H) (x / H)^3, never below V itself.
+        const auto V = [&](double x) {
+            const double model = a.wa * x + a.wb * x * x;
+            if (x <= H[k]) return model;
+            const double r = x / H[k];
+            return std::max(model, (a.wa * H[k] + a.wb * H[k] * H[k]) * r * r * r);
+        };
+        w[k] = std::max(s[k], std::sqrt(std::max(0.0, V(D + d) - V(D))));
     }
+    if (worth) *worth = w;
     return s;
 }
 
@@ -218,27 +230,6 @@ Vec6d OdomCalibration::measuredHorizon() const {
         for (size_t i = 0; i < axes_[k].blocks.size(); ++i)
             if (axes_[k].cnt[i] >= p_.min_blocks - 1e-9 && axes_[k].len[i] > 0) h[k] = p_.horizons[i];
     return h;
-}
-
-Vec6d OdomCalibration::worthSigma(const SE3d& odom) const {
-    Vec6d s = sigma(odom);
-    const Vec6d H = measuredHorizon();
-    const double d = odom.translation().norm();
-    for (int k = 0; k < 6; ++k) {
-        const Axis& a = axes_[k];
-        const double D = a.since_m;
-        if (!std::isfinite(s[k]) || !(H[k] > 0) || !(D + d > H[k])) continue;
-        // V(D) = wa D + wb D^2 up to H, V(H) (D / H)^3 beyond (never below the model itself).
-        const auto V = [&](double x) {
-            const double model = a.wa * x + a.wb * x * x;
-            if (x <= H[k]) return model;
-            const double r = x / H[k];
-            return std::max(model, (a.wa * H[k] + a.wb * H[k] * H[k]) * r * r * r);
-        };
-        const double var = V(D + d) - V(D);
-        s[k] = std::max(s[k], std::sqrt(std::max(0.0, var)));
-    }
-    return s;
 }
 
 Vec6d OdomCalibration::shrink() const {

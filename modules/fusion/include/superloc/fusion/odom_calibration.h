@@ -80,14 +80,13 @@ class OdomCalibration {
     /// Per-frame std of the corrected motion per axis, for a frame of odom_alt motion `odom`
     /// taken at the distance since the scan last held each axis (out of sample, above); NaN
     /// where the axis has no fit, or no measured worth, yet.
-    Vec6d sigma(const SE3d& odom) const;
-    /// What the corrected motion is worth for the pose's covariance: sigma(), except beyond the
-    /// longest block length the worth has measured (H), where nothing has shown how the error
-    /// grows. There V(D) continues as V(H) (D / H)^3, the growth of an error whose rate itself
-    /// wanders (a random walk of the drift; a wandering scale over less than its correlation
-    /// length), which bounds any slower one; the solve keeps sigma() (doc/method.md §2, "Beyond
-    /// the longest block"). NaN where sigma() is.
-    Vec6d worthSigma(const SE3d& odom) const;
+    /// `worth` (if not null) receives what the corrected motion is worth for the pose's
+    /// covariance: the same, except beyond the longest block length the worth has measured (H),
+    /// where nothing has shown how the error grows. There V(D) continues as V(H) (D / H)^3, the
+    /// growth of an error whose rate itself wanders (a random walk of the drift; a wandering
+    /// scale over less than its correlation length), which bounds any slower one; the solve
+    /// keeps the returned std (doc/method.md §2, "What it is worth beyond the longest block").
+    Vec6d sigma(const SE3d& odom, Vec6d* worth = nullptr) const;
     /// [m] per axis: the longest block length with at least min_blocks blocks; 0 where none.
     Vec6d measuredHorizon() const;
     /// The in-sample std (the fit's own residual, as before the out-of-sample worth), NaN where
