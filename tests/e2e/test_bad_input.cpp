@@ -220,6 +220,9 @@ std::vector<BadInput> cases() {
     c.push_back({"LocalizeNegativeLastScanFeatures", L,
                  [](const std::string& d) { return localize(d, "", {"--set", "localization.last_scan_features=-5"}); },
                  1, {"[localization] last_scan_features must be >= 0"}});
+    c.push_back({"LocalizeNegativeHypothesisFeatures", L,
+                 [](const std::string& d) { return localize(d, "", {"--set", "relocalization.hypothesis_features=-1"}); },
+                 1, {"[relocalization] hypothesis_features must be >= 0"}});
     c.push_back({"LocalizeTumRepeatedTime", L,
                  [](const std::string& d) {
                      write(d + "/start.tum", "0.0 0 0 0 0 0 0 1\n0.0 1 0 0 0 0 0 1\n");

@@ -124,3 +124,27 @@ TEST(ReportBrowser, SwitchedOffByRunSaveReport) {
               LocalizeApp::Action::DumpConfig);
     EXPECT_NE(dump.dumpConfig().find("save_report"), std::string::npos);
 }
+
+// [run] save_observability_scan = false: no observability_scan.ply, the trajectory the same.
+TEST(ReportBrowser, ObservabilityScanSwitchedOffByRun) {
+    const std::string d = superloc::testing::freshDir("obs_scan_off");
+    const std::string fixtures = superloc::testing::sourcePath("rawlogs");
+    std::string trajectory[2];
+    for (const bool on : {false, true}) {
+        const std::string out = d + (on ? "/on" : "/off");
+        LocalizeApp app;
+        ASSERT_EQ(app.initialize(std::vector<std::string>{
+                      superloc::testing::sourcePath("ini/localize.ini"), "--rawlog", fixtures + "/office-tiny.rawlog",
+                      "--map", fixtures + "/office-tiny-map.pcd", "--initial-pose-tum",
+                      fixtures + "/office-tiny-gt.tum", "--out", out, "--quiet", "--set",
+                      std::string("run.save_observability_scan=") + (on ? "true" : "false")}),
+                  LocalizeApp::Action::Run);
+        ASSERT_EQ(app.run(), 0);
+        EXPECT_EQ(fs::exists(out + "/observability_scan.ply"), on);
+        for (const char* f : {"trajectory.tum", "frames.csv", "summary.json", "localized_map.pcd"})
+            EXPECT_TRUE(fs::exists(out + "/" + f)) << f;
+        trajectory[on] = slurp(out + "/trajectory.tum");
+    }
+    EXPECT_FALSE(trajectory[0].empty());
+    EXPECT_EQ(trajectory[0], trajectory[1]);
+}

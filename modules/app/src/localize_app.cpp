@@ -37,6 +37,7 @@ void RunParams::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const
     MRPT_LOAD_CONFIG_VAR(localized_map_voxel, double, c, s);
     MRPT_LOAD_CONFIG_VAR(save_localized_map, bool, c, s);
     MRPT_LOAD_CONFIG_VAR(save_report, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(save_observability_scan, bool, c, s);
 }
 
 void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const {
@@ -48,6 +49,7 @@ void RunParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::st
     MRPT_SAVE_CONFIG_VAR_COMMENT(localized_map_voxel, "[m] voxel of localized_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(save_localized_map, "write localized_map.pcd");
     MRPT_SAVE_CONFIG_VAR_COMMENT(save_report, "write report.html (the run at a glance) at the end");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(save_observability_scan, "write observability_scan.ply (grows with the area covered)");
 }
 
 void RunParams::validate() const {
@@ -254,7 +256,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     // What the outputs need of each frame, computed by the Localizer after the frame's time.
     localization::FrameOutputs frame_out;
     frame_out.map_voxel = run_.save_localized_map ? std::max(0.05, run_.localized_map_voxel) : 0.0;
-    frame_out.observability = true;
+    frame_out.observability = run_.save_observability_scan;
 
     summary_ = RunSummary{};
     summary_.method = localization::methodName(loc_.loc.method);
@@ -315,7 +317,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                 }
             }
         out.finish(summary_);
-        obs_scan.write(obs_path);
+        if (run_.save_observability_scan) obs_scan.write(obs_path);
     };
     try {
         while (reader.next(item)) {
@@ -335,8 +337,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                     }
                     out.addFrame(r, T, frame_out.map_points);
                     est.push_back({r.t, T, {}});
-                    obs_scan.add(frame_out.obs_points, frame_out.obs_labels);
-                    if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
+                    if (run_.save_observability_scan) {
+                        obs_scan.add(frame_out.obs_points, frame_out.obs_labels);
+                        if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
+                    }
                     ms.push_back(r.ms.total);
                     cpu.push_back(r.ms.total_cpu);
                     st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);

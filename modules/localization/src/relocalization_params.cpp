@@ -25,6 +25,7 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(local_radius_rate, double, c, s);
     MRPT_LOAD_CONFIG_VAR(local_yaw_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(verify_hypotheses, int, c, s);
+    MRPT_LOAD_CONFIG_VAR(hypothesis_features, int, c, s);
     MRPT_LOAD_CONFIG_VAR(accept_inlier_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(ambiguity_ratio, double, c, s);
     MRPT_LOAD_CONFIG_VAR(distinct_xyz, double, c, s);
@@ -57,6 +58,7 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(local_radius_rate, "[m/s] ...grown by this per second since that pose");
     MRPT_SAVE_CONFIG_VAR_COMMENT(local_yaw_deg, "[deg] half width of the local yaw interval (180: any)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(verify_hypotheses, "best hypotheses verified by fine registration");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(hypothesis_features, "a hypothesis's voxel-map solve: every k-th feature, at most this many (0: all)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(accept_inlier_ratio, "[-] inlier ratio a verified pose needs without a reference");
     MRPT_SAVE_CONFIG_VAR_COMMENT(ambiguity_ratio, "[-] another verified pose this x as good: ambiguous");
     MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_xyz, "[m] verified poses farther apart are distinct");
@@ -98,6 +100,7 @@ void RelocalizationParams::validate() const {
     if (!(local_yaw_deg > 0 && local_yaw_deg <= 180))
         throw ConfigError("[relocalization] local_yaw_deg must be in (0, 180]");
     if (verify_hypotheses < 1) throw ConfigError("[relocalization] verify_hypotheses must be >= 1");
+    if (hypothesis_features < 0) throw ConfigError("[relocalization] hypothesis_features must be >= 0 (0: all)");
     if (!(accept_inlier_ratio > 0 && accept_inlier_ratio <= 1))
         throw ConfigError("[relocalization] accept_inlier_ratio must be in (0, 1]");
     if (!(ambiguity_ratio > 0 && ambiguity_ratio <= 1))

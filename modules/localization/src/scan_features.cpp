@@ -11,6 +11,21 @@ void ScanFeatures::redeskew(const Scan& scan, const features::SweepMotion& m) {
     for (size_t i = 0; i < deskewed.size(); ++i) pts_body[i] = scan.T_imu_lidar * deskewed[i].cast<double>();
 }
 
+ScanFeatures strided(const ScanFeatures& ft, int most) {
+    ScanFeatures out;
+    const size_t n = ft.pts_body.size();
+    if (most <= 0 || n <= static_cast<size_t>(most)) return out;
+    const size_t k = (n + static_cast<size_t>(most) - 1) / static_cast<size_t>(most);
+    const bool timed = ft.rel_time.size() == n;
+    for (size_t i = 0; i < n; i += k) {
+        out.pts_body.push_back(ft.pts_body[i]);
+        if (timed) out.rel_time.push_back(ft.rel_time[i]);
+    }
+    out.T_imu_lidar = ft.T_imu_lidar;
+    out.sweep_s = ft.sweep_s;
+    return out;
+}
+
 bool Preprocessor::run(const Scan& scan, const Prediction& pred, const fusion::FrameState& prev,
                        const SensorHistory& sensors, const Vec3d& g_map, bool ndt, ScanFeatures& out) {
     out.T_imu_lidar = scan.T_imu_lidar;

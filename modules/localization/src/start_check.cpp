@@ -23,7 +23,7 @@ std::vector<SE3d> Recovery::startBasins(Frame& f, const std::vector<SE3d>& seeds
     const auto& rp = params_.relocalization;
     std::vector<std::pair<SE3d, double>> basins;  // pose, inlier ratio
     for (const SE3d& T_seed : seeds) {
-        const Attempt a = verifier_.verify(f, std::vector<SE3d>{T_seed}, rep, VerifyAs::Hypothesis, judge).front();
+        const Attempt a = verifier_.verify(f, std::vector<SE3d>{T_seed}, rep, VerifyAs::Seed, judge).front();
         if (a.rep.diverged) continue;
         const SE3d& T = a.rep.T_map_lidar;
         if (std::none_of(basins.begin(), basins.end(), [&](const auto& b) { return rp.sameStartBasin(b.first, T); }))

@@ -49,22 +49,6 @@ double firstGuessYaw(const std::vector<Vec3d>& pts, const SE3d& T, const map::Pr
     return 5 * best > 6 * none ? best_yaw : 0.0;
 }
 
-/// Every k-th of `ft`'s features (body points and times), k the smallest that leaves at most
-/// `most`; empty when all are kept (`most` 0, or no more than that many).
-ScanFeatures strided(const ScanFeatures& ft, int most) {
-    ScanFeatures out;
-    const size_t n = ft.pts_body.size();
-    if (most <= 0 || n <= static_cast<size_t>(most)) return out;
-    const size_t k = (n + static_cast<size_t>(most) - 1) / static_cast<size_t>(most);
-    const bool timed = ft.rel_time.size() == n;
-    for (size_t i = 0; i < n; i += k) {
-        out.pts_body.push_back(ft.pts_body[i]);
-        if (timed) out.rel_time.push_back(ft.rel_time[i]);
-    }
-    out.T_imu_lidar = ft.T_imu_lidar;
-    out.sweep_s = ft.sweep_s;
-    return out;
-}
 }  // namespace
 
 bool Tracker::measureMotion(Frame& f) {

@@ -29,6 +29,9 @@ struct RunParams : public mrpt::config::CLoadableOptions {
     double localized_map_voxel = 0.1;  ///< [m] voxel of localized_map.pcd (0 = keep all)
     bool save_localized_map = true;
     bool save_report = true;  ///< write report.html at the end of the run
+    /// write observability_scan.ply (one coloured point per voxel of every correspondence: it
+    /// grows with the area a run covers, so a long run's memory does too)
+    bool save_observability_scan = true;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override;

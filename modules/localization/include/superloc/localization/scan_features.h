@@ -34,6 +34,11 @@ struct ScanFeatures {
     void redeskew(const Scan& scan, const features::SweepMotion& m);
 };
 
+/// Every k-th of `ft`'s features (body points and times), k the smallest that leaves at most
+/// `most`; empty when all are kept (`most` 0, or no more than that many). For solves that only
+/// have to land in a basin: the last-scan registration, a search's hypotheses.
+ScanFeatures strided(const ScanFeatures& ft, int most);
+
 /// Fills ScanFeatures from a scan and its prediction; keeps its selection table between scans
 /// (no allocation per frame once warm).
 class Preprocessor {

@@ -47,9 +47,11 @@ struct Frame {
     TrackReport report;
 };
 
-/// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior), or as the
-/// first frame's own registration (a start seed, with its sweep velocity).
-enum class VerifyAs { Hypothesis, FirstFrame };
+/// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior), as a start
+/// seed (a hypothesis solved and measured on [relocalization] hypothesis_features alone: only its
+/// basin is wanted, and the seeds are compared with each other), or as the first frame's own
+/// registration (a start basin, with its sweep velocity).
+enum class VerifyAs { Hypothesis, Seed, FirstFrame };
 
 class Tracker {
    public:
@@ -115,7 +117,9 @@ class Tracker {
     bool wantsSweepVelocity(const Prediction& pred) const;
     /// Step 6: the quality at the estimate, divergence (`unchecked`: no jump check against the
     /// prediction), the velocity without IMU, the reported poses.
-    void finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol) const;
+    /// `features`: those the solve's correspondences come from (default: the frame's).
+    void finish(const Frame& f, const Prediction& pred, bool unchecked, FrameSolution& sol,
+                const ScanFeatures* features = nullptr) const;
 
     LocalizerParams params_;
     const MethodVariant& variant_;
