@@ -116,6 +116,76 @@ TEST(Tracker, VerifyingPosesChangesNothingOfTheFrame) {
     }
 }
 
+// A start seed (VerifyAs::Seed) is solved as a search's hypothesis is, from the same pose, and
+// only measured differently: on its solve's own voxel-map correspondences instead of a fresh
+// association of every feature (doc/health.md "Start"). With [relocalization]
+// hypothesis_features it is solved and measured on every k-th feature, while a hypothesis is
+// polished and measured on them all.
+TEST(Tracker, ASeedIsSolvedAsAHypothesisAndMeasuredOnItsOwnFeatures) {
+    const Motion m;
+    // The room moved off the voxel grid: its walls on the voxel faces (x = -6, 6 ...) leave the
+    // voxel association of a search nothing to hold a wall with (a feature at 5.98 m falls in a
+    // voxel without the wall's points).
+    const Vec3d shift(0.23, 0.17, 0.11);
+    PointCloud room = boxSurface(0.05);
+    for (Vec3f& q : room.points) q += shift.cast<float>();
+    map::MapParams mp;
+    mp.voxel_size = 0.1;
+    const auto map = std::make_shared<map::PriorMap>(room, mp, Vec3f(0, 0, 1.5) + shift.cast<float>());
+    const SE3d T_shift(Eigen::Translation3d(shift.x(), shift.y(), shift.z()));
+    mrpt::system::COutputLogger log("test");
+    log.setMinLoggingLevel(mrpt::system::LVL_ERROR);
+    for (const int subset : {0, 100}) {
+        LocalizerParams p = boxParams();
+        p.relocalization.hypothesis_features = subset;
+        const MethodVariant variant = makeMethodVariant(Method::Icp, p.fusion, p.risk);
+        SensorHistory sensors;
+        Tracker tr(p, variant, sensors, log);
+        tr.setMap(map, nullptr);
+        double t_imu = 0;
+        for (int i = 1; i <= 6; ++i) {
+            const double t = 0.1 * i;
+            for (const ImuSample& smp : imuUpTo(m, t, t_imu)) sensors.addImu(smp);
+            const Scan scan = sweep(m, kImuLidar, t);
+            Frame f;
+            tr.begin(scan, T_shift * m.T(0.1) * kImuLidar, f);
+            FrameSolution own = tr.track(f, tr.velocityUnknown(f, true));
+            FrameReport rep(static_cast<size_t>(i), t, own.report);
+            const std::string at = "hypothesis_features " + std::to_string(subset) + ", frame " + std::to_string(i);
+            ASSERT_LT(translationDistance(own.report.T_map_lidar, T_shift * m.T(t) * kImuLidar), 0.03) << at;
+            if (i == 6) {
+                const size_t n = f.features.pts_body.size();
+                ASSERT_GT(n, 150u) << "the room's scan must have more features than the subset";
+                fusion::FrameState start = own.state;
+                start.setPose(SE3d(Eigen::Translation3d(0.3, -0.2, 0)) * start.T_map_imu());
+                const FrameSolution seed = tr.solveFrom(f, start, VerifyAs::Seed, rep.track());
+                const FrameSolution hyp = tr.solveFrom(f, start, VerifyAs::Hypothesis, rep.track());
+                ASSERT_FALSE(seed.report.diverged) << at;
+                ASSERT_FALSE(hyp.report.diverged) << at;
+                // Both settle where the frame's own solve did (the room holds every axis); a
+                // seed on 100 features at the voxel map's 0.5 m level within a tenth of a metre
+                // (3.3 cm measured), a third of what tells two start basins apart
+                // (start_distinct_xyz, 0.3 m).
+                EXPECT_LT(translationDistance(seed.report.T_map_lidar, own.report.T_map_lidar), subset ? 0.1 : 0.03)
+                    << at;
+                EXPECT_LT(translationDistance(hyp.report.T_map_lidar, own.report.T_map_lidar), 0.03) << at;
+                EXPECT_GT(seed.report.inlier_ratio, 0.8) << at;
+                EXPECT_GT(hyp.report.inlier_ratio, 0.8) << at;
+                if (subset == 0) {
+                    // The same solve: the same pose to the last bit; measured on every feature both.
+                    EXPECT_EQ(seed.report.T_map_lidar.matrix(), hyp.report.T_map_lidar.matrix());
+                    EXPECT_GT(seed.corr.size(), n / 2);
+                } else {
+                    // The seed's fit is that of its subset; the hypothesis's of every feature.
+                    EXPECT_LE(seed.corr.size(), static_cast<size_t>(subset));
+                    EXPECT_GT(hyp.corr.size(), static_cast<size_t>(subset));
+                }
+            }
+            tr.end(f, own.state, own, rep, false, false, false);
+        }
+    }
+}
+
 // process(scan, &outputs): the localized-map and observability points of the frame that asked,
 // on the walls of the room (deskewed, at the solved pose), and asking for them changes nothing
 // of the localization.

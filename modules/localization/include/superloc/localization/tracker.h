@@ -47,10 +47,11 @@ struct Frame {
     TrackReport report;
 };
 
-/// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior), as a start
-/// seed (a hypothesis solved and measured on [relocalization] hypothesis_features alone: only its
-/// basin is wanted, and the seeds are compared with each other), or as the first frame's own
-/// registration (a start basin, with its sweep velocity).
+/// How a pose is verified: as a hypothesis (voxel map, from its 1 m level, no prior; its fit
+/// measured on every feature as tracking measures it), as a start seed (solved as a hypothesis,
+/// its fit measured on its solve's own voxel-map correspondences, on [relocalization]
+/// hypothesis_features where set: only its basin is wanted, and the seeds are compared with each
+/// other), or as the first frame's own registration (a start basin, with its sweep velocity).
 enum class VerifyAs { Hypothesis, Seed, FirstFrame };
 
 class Tracker {
