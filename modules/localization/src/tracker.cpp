@@ -210,38 +210,40 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
     sol.state.t = f.scan->t;
     sol.corr.reserve(f.features.pts_body.size());  // one correspondence per feature at most
     const Prediction* frame_pred = as == VerifyAs::FirstFrame ? &f.pred : nullptr;
-    std::optional<ScanFeatures> seed_features;  // a seed's, when it was solved on fewer features
+    // A hypothesis's or seed's solve on every k-th feature ([relocalization] hypothesis_features;
+    // empty: on them all): it only has to find the basin.
+    ScanFeatures few;
     if (frame_pred) {
         // ICP whatever the method: a seed is verified as the hypotheses are.
         trackedSolve(icp_, f, sol, true, nullptr);
         if (wantsSweepVelocity(*frame_pred) && !r.diverged) sweepVelocity(f, *frame_pred, nullptr, sol);
     } else {
+        few = strided(f.features, params_.relocalization.hypothesis_features);
+        const bool subset = !few.pts_body.empty();
         RegistrationProblem hp = problem(f, SolvePurpose::Hypothesis, true, nullptr);
-        // Every k-th feature ([relocalization] hypothesis_features): the solve only has to find
-        // the basin; the fit is measured on every feature below (a seed's: on these).
-        ScanFeatures sub = strided(f.features, params_.relocalization.hypothesis_features);
-        if (!sub.pts_body.empty()) hp.features = &sub;
+        if (subset) hp.features = &few;
         icp_.solve(hp, sol);
-        if (as == VerifyAs::Hypothesis && !sub.pts_body.empty() && !r.diverged) {
-            // Settled in its basin on the few: polished on them all at the finest level (a
-            // tracked solve's rounds), so that hypotheses in one basin end where the full solve
-            // would put them and are not told apart as rivals (KITTI's global search: 13
-            // instead of 14-15 of 16 scans placed without the polish).
-            const int rounds = r.rounds;
-            r.converged = false;
-            icp_.solve(problem(f, SolvePurpose::Hypothesis, false, nullptr), sol);
-            r.rounds += rounds;
-        }
-        if (as == VerifyAs::Seed) {
-            // A start seed is compared with the other seeds only: measured on the features it
-            // was solved with (its basin is then verified as the first frame, on them all).
-            if (!sub.pts_body.empty()) seed_features = std::move(sub);
-        } else if (!icp_.association().voxel() || !sub.pts_body.empty()) {
-            // Inliers measured as tracking measures them, so that the refined poses compare with
-            // the frame's own solve (the two associations count inliers differently).
-            const auto ta = Clock::now();
-            associate(f.features.pts_body, sol.state.T_map_imu(), *map_, icp_.association(), sol.corr, sol.stats);
-            r.ms.associate += msSince(ta);
+        // A start seed is compared with the other seeds only: its fit is that of its own solve
+        // (finish() below, on `few` where set); its basin is then verified as the first frame.
+        if (as == VerifyAs::Hypothesis) {
+            if (subset && !r.diverged) {
+                // Settled in its basin on the few: polished on them all at the finest level (a
+                // tracked solve's rounds), so that hypotheses in one basin end where the full
+                // solve would put them and are not told apart as rivals (KITTI's global search:
+                // 13 instead of 14-15 of 16 scans placed without the polish).
+                const int rounds = r.rounds;
+                r.converged = false;
+                icp_.solve(problem(f, SolvePurpose::Hypothesis, false, nullptr), sol);
+                r.rounds += rounds;
+            }
+            if (!icp_.association().voxel() || subset) {
+                // Inliers measured as tracking measures them, so that the refined poses compare
+                // with the frame's own solve (the two associations count inliers differently).
+                const auto ta = Clock::now();
+                associate(f.features.pts_body, sol.state.T_map_imu(), *map_, icp_.association(), sol.corr,
+                          sol.stats);
+                r.ms.associate += msSince(ta);
+            }
         }
     }
     // No IMU prediction (a start's seed: the frame's own, from another pose): finished unchecked.
@@ -253,7 +255,7 @@ FrameSolution Tracker::solveFrom(Frame& f, const fusion::FrameState& start, Veri
         const SE3d& T_ref = f.pred.used_imu ? f.pred.T_map_imu : f.prev.T_map_imu();
         p.keep_v_body = T_ref.linear().transpose() * (f.pred.used_imu ? f.pred.v : f.prev.velocity());
     }
-    finish(f, p, true, sol, seed_features ? &*seed_features : nullptr);
+    finish(f, p, true, sol, as == VerifyAs::Seed && !few.pts_body.empty() ? &few : nullptr);
     scanCovariance(sol);  // a verified pose: its own scan's (doc/method.md §4)
     return sol;
 }
