@@ -358,7 +358,9 @@ void BM_RecoveryFrame(benchmark::State& state) {
 }
 
 /// The association step alone: 2000 features of scan 5 at its GT pose; Arg(0) nearest (kd-tree),
-/// Arg(1) planes (the default).
+/// Arg(1) planes (the default), Arg(2) planes without voxel planes (every feature on the bounded
+/// grid fallback: a frame weak in translation, [association] points_below_gamma) on a solve's
+/// first round, Arg(3) the same on a later round (each feature's last match as the search's hint).
 void BM_Association(benchmark::State& state) {
     const SplitData* d = kitti();
     if (!d) {
@@ -376,12 +378,17 @@ void BM_Association(benchmark::State& state) {
     AssociationParams ap;
     ap.plane_max_thickness = 0.1;
     ap.point_weight = 0.1;
-    ap.kind = state.range(0) == 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
+    ap.kind = state.range(0) >= 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
+    ap.voxel_planes = state.range(0) <= 1;
+    const bool hinted = state.range(0) == 3;
     d->map->grid();  // built at load by the run (geometry_at_load)
     std::vector<Correspondence> corr;
     AssociationStats st;
+    std::vector<uint32_t> hint;
+    if (hinted) associate(pts, d->gt[5].pose, *d->map, ap, corr, st, nullptr, &hint);
     for (auto _ : state) {
-        associate(pts, d->gt[5].pose, *d->map, ap, corr, st);
+        if (!hinted) hint.clear();
+        associate(pts, d->gt[5].pose, *d->map, ap, corr, st, nullptr, ap.voxel_planes ? nullptr : &hint);
         benchmark::DoNotOptimize(corr.data());
     }
     state.counters["features"] = static_cast<double>(pts.size());
@@ -445,7 +452,7 @@ BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusHybrid)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusNearest)->Unit(benchmark::kMillisecond)->Iterations(52);
-BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 BENCHMARK_MAIN();

@@ -12,26 +12,6 @@ namespace superloc::map {
 
 namespace {
 constexpr float kMaxIndex = float(1 << 20) - 4;  // packVoxelIndices is exact within +-2^20
-
-/// The offsets of the cells `ring` cells away (the 26 around a cell for ring 1, the 98 around
-/// those for ring 2), those sharing a face with the inner cells first, then edges, then corners:
-/// the nearer boxes first, so that the best distance shrinks early and prunes the far ones.
-std::vector<std::array<int, 3>> ringOffsets(int ring) {
-    std::vector<std::array<int, 3>> o;
-    for (int nonzero = 1; nonzero <= 3; ++nonzero)
-        for (int dx = -ring; dx <= ring; ++dx)
-            for (int dy = -ring; dy <= ring; ++dy)
-                for (int dz = -ring; dz <= ring; ++dz) {
-                    const int m = std::max({std::abs(dx), std::abs(dy), std::abs(dz)});
-                    const int far = (std::abs(dx) == ring) + (std::abs(dy) == ring) + (std::abs(dz) == ring);
-                    if (m == ring && far == nonzero) o.push_back({dx, dy, dz});
-                }
-    return o;
-}
-const std::vector<std::array<int, 3>>& neighbourOffsets(int ring) {
-    static const std::vector<std::array<int, 3>> one = ringOffsets(1), two = ringOffsets(2);
-    return ring == 1 ? one : two;
-}
 }  // namespace
 
 namespace {
@@ -101,26 +81,60 @@ void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound
     const Vec3f s = q * inv_;
     if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return;
     const int64_t c[3] = {floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())};
-    // Distance [m] from q to the lower and the upper face of its cell, per axis.
+    // Per axis, the squared distance [m^2] from q to the slab of the cells o = -2..2 away along it
+    // (0 for its own): lo / hi is q's distance to its cell's lower / upper face.
     const float edge = static_cast<float>(cell_);
-    float lo[3], hi[3];
+    float axis2[3][5];
+    float nearest_face = edge;
     for (int k = 0; k < 3; ++k) {
         const float f = s[k] - static_cast<float>(c[k]);
-        lo[k] = f * edge;
-        hi[k] = (1.0f - f) * edge;
+        const float lo = f * edge, hi = (1.0f - f) * edge;
+        nearest_face = std::min({nearest_face, lo, hi});
+        axis2[k][0] = (lo + edge) * (lo + edge);
+        axis2[k][1] = lo * lo;
+        axis2[k][2] = 0.0f;
+        axis2[k][3] = hi * hi;
+        axis2[k][4] = (hi + edge) * (hi + edge);
     }
     if (const Slot* own = find(c[0], c[1], c[2])) visit(own->begin, own->end);
-    for (int ring = 1; ring <= rings; ++ring)
-        for (const auto& o : neighbourOffsets(ring)) {
-            float box = 0;  // squared distance from q to the cell's box
-            for (int k = 0; k < 3; ++k) {
-                const int a = std::abs(o[k]);
-                const float d = a == 0 ? 0.0f : (o[k] < 0 ? lo[k] : hi[k]) + static_cast<float>(a - 1) * edge;
-                box += d * d;
-            }
-            if (box >= bound()) continue;
-            if (const Slot* n = find(c[0] + o[0], c[1] + o[1], c[2] + o[2])) visit(n->begin, n->end);
+    // The cells around, nearest box first, each only while its box is nearer than the best point
+    // found so far. A ring is skipped whole when even its nearest box (q's nearest face, plus
+    // the ring's inner cells) is not nearer: with a good bound (a hint, or a point of q's own
+    // cell) that leaves a few cells at most.
+    struct Near {
+        float box;
+        int8_t o[3];
+    };
+    Near todo[124];
+    for (int ring = 1; ring <= rings; ++ring) {
+        const float inner = nearest_face + static_cast<float>(ring - 1) * edge;
+        if (inner * inner >= bound()) break;
+        // Per axis, the offsets whose slab is nearer than the bound.
+        int from[3], to[3];
+        const float b = bound();
+        for (int k = 0; k < 3; ++k) {
+            from[k] = -ring, to[k] = ring;
+            while (from[k] < 0 && axis2[k][from[k] + 2] >= b) ++from[k];
+            while (to[k] > 0 && axis2[k][to[k] + 2] >= b) --to[k];
         }
+        int n = 0;
+        for (int dx = from[0]; dx <= to[0]; ++dx)
+            for (int dy = from[1]; dy <= to[1]; ++dy)
+                for (int dz = from[2]; dz <= to[2]; ++dz) {
+                    if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
+                    const float box = axis2[0][dx + 2] + axis2[1][dy + 2] + axis2[2][dz + 2];
+                    if (box >= b) continue;
+                    // Insertion into the list sorted by box (a few cells, usually).
+                    int at = n++;
+                    for (; at > 0 && todo[at - 1].box > box; --at) todo[at] = todo[at - 1];
+                    todo[at] = Near{box, {static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz)}};
+                }
+        for (int i = 0; i < n; ++i) {
+            if (todo[i].box >= bound()) break;  // sorted: the rest are farther still
+            if (const Slot* cell = find(c[0] + todo[i].o[0], c[1] + todo[i].o[1], c[2] + todo[i].o[2]))
+                visit(cell->begin, cell->end);
+        }
+    }
 }
 
 namespace {
@@ -149,7 +163,8 @@ std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist, ui
             for (uint32_t j = b; j < e; ++j) {
                 const uint32_t i = index_.empty() ? j : index_[j];
                 const float d2 = (pts[i] - q).squaredNorm();
-                if (d2 <= best) best = d2, best_i = i;
+                // Equally near points: the lowest index, whichever cell was visited first.
+                if (d2 < best || (d2 == best && i < best_i)) best = d2, best_i = i;
             }
         },
         [&] { return best; });
@@ -175,7 +190,7 @@ void PointGrid::knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32
             for (uint32_t j = b; j < e; ++j) {
                 const uint32_t i = index_.empty() ? j : index_[j];
                 const float d2 = (pts[i] - q).squaredNorm();
-                if (d2 > r2 || (best.size() == k && d2 >= best.back().first)) continue;
+                if (d2 > r2 || (best.size() == k && std::make_pair(d2, i) >= best.back())) continue;
                 const auto at = std::upper_bound(best.begin(), best.end(), std::make_pair(d2, i));
                 best.insert(at, {d2, i});
                 if (best.size() > k) best.pop_back();
