@@ -128,7 +128,10 @@ TEST(FrameProblem, ScanOnlyRecoversPoseFromPerturbation) {
 
 namespace {
 // The scan-only problem solved by Ceres as solveFrame did before it had its own solver.
-SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iterations) {
+/// Ceres on the scan's N x 7 block itself (and odom_alt's relative prior from `prev`, held
+/// constant, when given): what solveFrame's condensed scan block must reproduce.
+SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iterations,
+                            const RelativePosePrior* prior = nullptr, FrameState* prev = nullptr) {
     struct NonOwning : ceres::CostFunction {
         explicit NonOwning(const ceres::CostFunction* f) : f_(f) {
             set_num_residuals(f->num_residuals());
@@ -143,6 +146,12 @@ SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iteration
     ceres::Problem problem(popt);
     problem.AddParameterBlock(cur.pose, 7, &manifold);
     problem.AddResidualBlock(new NonOwning(&scan), nullptr, cur.pose);
+    if (prior) {
+        problem.AddParameterBlock(prev->pose, 7, &manifold);
+        problem.AddResidualBlock(RelativePoseFactor::Create(prior->delta, prior->sqrt_info), nullptr, prev->pose,
+                                 cur.pose);
+        problem.SetParameterBlockConstant(prev->pose);
+    }
     ceres::Solver::Options opt;
     opt.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
     opt.max_num_iterations = max_iterations;
@@ -212,6 +221,57 @@ TEST(FrameProblem, ScanOnlyMatchesCeres) {
     EXPECT_NEAR(cost, 0.5 * rv.squaredNorm(), 1e-9 * cost);
     EXPECT_LT((H - Jl.transpose() * Jl).norm(), 1e-9 * H.norm());
     EXPECT_LT((g - Jl.transpose() * rv).norm(), 1e-9 * H.norm());
+}
+
+TEST(FrameProblem, CondensedScanIsTheScanToRounding) {
+    // solveFrame gives Ceres the scan's normal equations through 7 residuals (CondensedScan):
+    // the same steps as Ceres on the N x 7 block, with odom_alt's prior beside it. A box room,
+    // and a corridor whose scan leaves its axis unheld (a singular H: the prior holds x).
+    const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
+    auto room = boxRoom(T_true, 800, 11);
+    std::vector<Correspondence> corridor;
+    for (const auto& c : room)
+        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) corridor.push_back(c);
+    std::mt19937 rng(4);
+    std::normal_distribution<double> N(0, 0.03);
+    for (auto* corr : {&room, &corridor})
+        for (auto& c : *corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    FrameState prev;
+    prev.setPose(makePoseRPY(0.2, -0.4, 0.3, 0.01, 0.0, 0.35));
+    RelativePosePrior prior;
+    prior.delta = prev.T_map_imu().inverse() * T_true * makePoseRPY(0.04, 0.01, -0.01, 0.002, 0.001, 0.003);
+    prior.sqrt_info = Vec6d(1 / 0.05, 1 / 0.05, 1 / 0.05, 1 / 0.01, 1 / 0.01, 1 / 0.01).asDiagonal();
+    FusionParams p;
+    p.active.prior_kernel = "none";  // the reference below adds the prior without a loss
+    for (const auto* corr : {&room, &corridor})
+        for (const SE3d& T0 : {T_true * makePoseRPY(0.05, -0.03, 0.02, 0.005, 0.004, -0.01),
+                               T_true * makePoseRPY(0.6, -0.4, 0.2, 0.05, 0.06, -0.25)})
+            for (int iters : {1, 3, 10}) {
+                ScanFactor scan(*corr, 0.05);
+                scan.setRobustWeights(T0, RobustKernel::Cauchy, 0.3);
+                FrameState a, b, prev_a = prev, prev_b = prev;
+                a.setPose(T0);
+                b.setPose(T0);
+                FrameProblemInputs in;
+                in.prev = &prev_a;
+                in.cur = &a;
+                in.scan = &scan;
+                in.prior = prior;
+                p.max_iterations = iters;
+                const auto sa = solveFrame(in, p);
+                const auto sb = solveWithCeres(scan, b, iters, &prior, &prev_b);
+                ASSERT_TRUE(sa.usable);
+                ASSERT_TRUE(sb.usable);
+                EXPECT_EQ(sa.iterations, sb.iterations) << iters;
+                EXPECT_NEAR(sa.initial_cost, sb.initial_cost, 1e-9 * sb.initial_cost);
+                EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-9 * sb.initial_cost);
+                EXPECT_LT(translationDistance(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+                EXPECT_LT(rotationAngle(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+                // Far from the start: the solve did something.
+                if (iters == 10) {
+                    EXPECT_GT(translationDistance(a.T_map_imu(), T0), 0.01);
+                }
+            }
 }
 
 TEST(FrameProblem, ImuFactorAloneReproducesPrediction) {

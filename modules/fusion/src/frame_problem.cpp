@@ -205,6 +205,73 @@ SolveSummary solveScanOnly(const ScanFactor& scan, double* pose, int max_iterati
 
 }  // namespace
 
+namespace {
+/// The scan's N residuals as Ceres sees them through 7: at each evaluation the scan's normal
+/// equations in the pose's tangent (ScanFactor::linearize: H = J^T J, g = J^T r, cost c) are
+/// factored H = P^T L D L^T P (pivoted LDL^T, semi-definite allowed), and the block reports the
+/// Jacobian [D^1/2 L^T P; 0] with the residual [D^-1/2 L^-1 P g; sqrt(2c - |.|^2)]: the same
+/// J^T J, J^T r and cost, so the same Gauss-Newton / Levenberg-Marquardt steps, Jacobi scaling and
+/// marginal as the N x 7 block, to rounding (test FrameProblem.CondensedScanIsTheScanToRounding).
+/// Ceres then forms a 7 x 7 product instead of the N x 7 one (one frame: 2000 rows).
+class CondensedScan : public ceres::CostFunction {
+   public:
+    explicit CondensedScan(const ScanFactor& scan) : scan_(scan) {
+        set_num_residuals(7);
+        mutable_parameter_block_sizes()->push_back(7);
+    }
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+        const double* x = parameters[0];
+        const bool jacobian = jacobians && jacobians[0];
+        if (!jacobian) {
+            // A candidate's cost (Ceres evaluates the residuals again with the Jacobian where it
+            // accepts a step): only the cost needs to be right, so all of it in the last residual.
+            const double cost = scan_.linearize(x, nullptr, nullptr);
+            if (!std::isfinite(cost)) return false;
+            for (int k = 0; k < 6; ++k) residuals[k] = 0.0;
+            residuals[6] = std::sqrt(2.0 * cost);
+            return true;
+        }
+        Mat6d H;
+        Vec6d g;
+        const double cost = scan_.linearize(x, &H, &g);
+        if (!std::isfinite(cost) || !H.allFinite() || !g.allFinite()) return false;
+        const Eigen::LDLT<Mat6d> ldlt(H);
+        if (ldlt.info() != Eigen::Success) return false;
+        const Vec6d D = ldlt.vectorD();
+        const double tiny = 1e-14 * std::max(1.0, D.cwiseAbs().maxCoeff());
+        // y = L^-1 P g; r = D^-1/2 y where D > 0 (g has nothing along a null direction of H).
+        const Mat6d P = ldlt.transpositionsP() * Mat6d::Identity();
+        Vec6d y = P * g;
+        ldlt.matrixL().solveInPlace(y);
+        Vec6d sqrtD;
+        double explained = 0;
+        for (int k = 0; k < 6; ++k) {
+            sqrtD[k] = D[k] > tiny ? std::sqrt(D[k]) : 0.0;
+            residuals[k] = sqrtD[k] > 0 ? y[k] / sqrtD[k] : 0.0;
+            explained += residuals[k] * residuals[k];
+        }
+        residuals[6] = std::sqrt(std::max(0.0, 2.0 * cost - explained));
+        {
+            // Tangent Jacobian Jt = D^1/2 L^T P (6 x 6), then ambient as ScanFactor::Evaluate:
+            // translation columns as they are, rotation columns times 2 M(q)^T.
+            const Mat6d Jt = sqrtD.asDiagonal() * Mat6d(ldlt.matrixU()) * P;
+            double M[12];
+            quaternionRightMatrix(x + 3, M);
+            const Eigen::Matrix<double, 3, 4> twoMt =
+                2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
+            Eigen::Map<Eigen::Matrix<double, 7, 7, Eigen::RowMajor>> J(jacobians[0]);
+            J.setZero();
+            J.topLeftCorner<6, 3>() = Jt.leftCols<3>();
+            J.block<6, 4>(0, 3) = Jt.rightCols<3>() * twoMt;
+        }
+        return true;
+    }
+
+   private:
+    const ScanFactor& scan_;
+};
+}  // namespace
+
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params) {
     const bool with_imu = in.imu != nullptr && in.imu->dt() > 0;
     if (!with_imu && !in.prior && !in.cur_pose_prior && in.scan && in.scan->num_residuals() > 0) {
@@ -222,22 +289,9 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
     FrameState& prev = *in.prev;
     problem.AddParameterBlock(cur.pose, 7, &manifold);
 
-    // Scan-to-map residuals (one block, IRLS weights already set). The scan factor is owned by
-    // the caller, so it goes in through a non-owning wrapper problem option.
-    if (in.scan) {
-        struct NonOwning : ceres::CostFunction {
-            explicit NonOwning(const ceres::CostFunction* f) : f_(f) {
-                set_num_residuals(f->num_residuals());
-                *mutable_parameter_block_sizes() = f->parameter_block_sizes();
-            }
-            bool Evaluate(double const* const* p, double* r, double** J) const override {
-                return f_->Evaluate(p, r, J);
-            }
-            const ceres::CostFunction* f_;
-        };
-        if (in.scan->num_residuals() > 0)
-            problem.AddResidualBlock(new NonOwning(in.scan), nullptr, cur.pose);
-    }
+    // Scan-to-map residuals (one block, IRLS weights already set), condensed to their normal
+    // equations (CondensedScan): the factor is owned by the caller.
+    if (in.scan && in.scan->num_residuals() > 0) problem.AddResidualBlock(new CondensedScan(*in.scan), nullptr, cur.pose);
 
     if (with_imu) {
         // IMU factor (Forster eq. 45) between prev and cur; prev held by priors (two-state window).

@@ -149,25 +149,37 @@ double ScanFactor::linearize(const double* x, Mat6d* H, Vec6d* g) const {
     const Mat3d R = q.normalized().toRotationMatrix();
     const Vec3d t(x[0], x[1], x[2]);
     const bool lin = H && g;
-    if (lin) H->setZero(), g->setZero();
     double cost = 0, r[3], Jt[18];
+    if (!lin) {
+        for (size_t i = 0; i < corr_.size(); ++i) {
+            const Correspondence& c = corr_[i];
+            const int d = residualDim(c.type);
+            correspondenceResidual(c, R, t, r, nullptr);
+            const double s = sqrt_w_[i] * inv_sigma_, s2 = s * s;
+            for (int k = 0; k < d; ++k) cost += s2 * r[k] * r[k];
+        }
+        return 0.5 * cost;
+    }
+    // The weighted rows gathered, then H = J^T J and g = J^T r in one product each.
+    const Eigen::Index n = num_residuals();
+    if (rows_.rows() != n) rows_.resize(n, 6), res_.resize(n);
+    Eigen::Index row = 0;
     for (size_t i = 0; i < corr_.size(); ++i) {
         const Correspondence& c = corr_[i];
         const int d = residualDim(c.type);
-        correspondenceResidual(c, R, t, r, lin ? Jt : nullptr);
-        const double s = sqrt_w_[i] * inv_sigma_, s2 = s * s;
-        for (int k = 0; k < d; ++k) {
-            cost += s2 * r[k] * r[k];
-            if (!lin) continue;
-            const double* Jk = Jt + 6 * k;
-            for (int a = 0; a < 6; ++a) {
-                const double wa = s2 * Jk[a];
-                for (int b = a; b < 6; ++b) (*H)(a, b) += wa * Jk[b];
-                (*g)(a) += wa * r[k];
-            }
+        correspondenceResidual(c, R, t, r, Jt);
+        const double s = sqrt_w_[i] * inv_sigma_;
+        for (int k = 0; k < d; ++k, ++row) {
+            const double sr = s * r[k];
+            cost += sr * sr;
+            res_[row] = sr;
+            for (int a = 0; a < 6; ++a) rows_(row, a) = s * Jt[6 * k + a];
         }
     }
-    if (lin) *H = H->selfadjointView<Eigen::Upper>();
+    H->setZero();
+    H->selfadjointView<Eigen::Lower>().rankUpdate(rows_.transpose());
+    *H = H->selfadjointView<Eigen::Lower>();
+    g->noalias() = rows_.transpose() * res_;
     return 0.5 * cost;
 }
 

@@ -63,13 +63,16 @@ class ScanFactor : public ceres::CostFunction {
     /// Cost 0.5 * sum of the squared weighted residuals at pose x (Ceres' 7-vector: t, then
     /// the quaternion x y z w) and, when H and g are not null, the normal equations in the
     /// pose manifold's tangent [dt, dtheta]: H = J^T J, g = J^T r. One pass, no Jacobian stored
-    /// (fusion::solveFrame's scan-only path).
+    /// (fusion::solveFrame's scan-only path). Not for concurrent calls on one factor: the
+    /// weighted rows are gathered in the factor's scratch and multiplied in one product.
     double linearize(const double* x, Mat6d* H, Vec6d* g) const;
 
    private:
     std::vector<Correspondence> corr_;
     std::vector<double> sqrt_w_;
     double inv_sigma_;
+    mutable Eigen::Matrix<double, Eigen::Dynamic, 6> rows_;  ///< linearize's weighted Jacobian
+    mutable Eigen::VectorXd res_;                           ///< and residuals
 };
 
 }  // namespace superloc::fusion
