@@ -223,6 +223,54 @@ TEST(FrameProblem, ScanOnlyMatchesCeres) {
     EXPECT_LT((g - Jl.transpose() * rv).norm(), 1e-9 * H.norm());
 }
 
+TEST(ScanFactor, LinearizeFromItsSumsIsTheDirectSum) {
+    // linearize sums the correspondences once, at its first pose, and answers every later pose
+    // from those sums: the cost, J^T J and J^T r over the residuals themselves, far from that
+    // first pose too, in a map frame hundreds of metres from its origin (KITTI's).
+    const SE3d far_away = makePoseRPY(350.0, -120.0, 8.0, 0.0, 0.0, 1.2);
+    const SE3d T_true = far_away * makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
+    auto corr = boxRoom(makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4), 900, 7);
+    std::mt19937 rng(9);
+    std::normal_distribution<double> N(0, 0.02);
+    for (auto& c : corr) {
+        c.p += Vec3d(N(rng), N(rng), N(rng));
+        c.q = far_away * c.q;
+        if (c.type != FeatureType::Point) c.n = far_away.linear() * c.n;
+        c.weight = 0.3 + 0.7 * std::abs(N(rng)) / 0.02;
+    }
+    ScanFactor scan(corr, 0.05);
+    scan.setRobustWeights(T_true, RobustKernel::Cauchy, 0.2);
+    FrameState first;
+    first.setPose(T_true * makePoseRPY(0.02, 0.01, -0.01, 0.001, 0.002, -0.003));
+    Mat6d H;
+    Vec6d g;
+    scan.linearize(first.pose, &H, &g);  // the sums are made here
+    for (const SE3d& d : {SE3d(makePoseRPY(0, 0, 0, 0, 0, 0)), SE3d(makePoseRPY(0.6, -0.4, 0.2, 0.05, 0.06, -0.25)),
+                          SE3d(makePoseRPY(-3.0, 2.0, 0.5, 0.3, -0.2, 1.5))}) {
+        FrameState s;
+        s.setPose(T_true * d);
+        std::vector<double> r;
+        const Eigen::MatrixXd Jl = tangentJacobian(scan, s, r);
+        const Eigen::VectorXd rv = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
+        const double cost = scan.linearize(s.pose, &H, &g);
+        const Eigen::MatrixXd Hd = Jl.transpose() * Jl;
+        const Eigen::VectorXd gd = Jl.transpose() * rv;
+        EXPECT_NEAR(cost, 0.5 * rv.squaredNorm(), 1e-10 * cost);
+        EXPECT_NEAR(scan.linearize(s.pose, nullptr, nullptr), cost, 1e-12 * cost);
+        EXPECT_LT((H - Hd).norm(), 1e-10 * Hd.norm());
+        EXPECT_LT((g - gd).norm(), 1e-10 * std::max(gd.norm(), 1e-6 * Hd.norm()));
+    }
+    // New weights: the sums are made again.
+    scan.setRobustWeights(T_true, RobustKernel::Cauchy, 0.05);
+    FrameState s;
+    s.setPose(T_true);
+    std::vector<double> r;
+    const Eigen::MatrixXd Jl = tangentJacobian(scan, s, r);
+    const Eigen::VectorXd rv = Eigen::Map<Eigen::VectorXd>(r.data(), static_cast<Eigen::Index>(r.size()));
+    EXPECT_NEAR(scan.linearize(s.pose, &H, &g), 0.5 * rv.squaredNorm(), 1e-10 * rv.squaredNorm());
+    EXPECT_LT((H - Jl.transpose() * Jl).norm(), 1e-10 * H.norm());
+}
+
 TEST(FrameProblem, CondensedScanIsTheScanToRounding) {
     // solveFrame gives Ceres the scan's normal equations through 7 residuals (CondensedScan):
     // the same steps as Ceres on the N x 7 block, with odom_alt's prior beside it. A box room,

@@ -107,6 +107,7 @@ void ScanFactor::setRobustWeights(const SE3d& T, RobustKernel kernel, double sca
                          robustWeight(kernel, correspondenceError(corr_[i], T), scale);
         sqrt_w_[i] = std::sqrt(w);
     }
+    sums_ = false;
 }
 
 bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
@@ -144,43 +145,80 @@ bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
     return true;
 }
 
-double ScanFactor::linearize(const double* x, Mat6d* H, Vec6d* g) const {
+Eigen::Matrix<double, 13, 1> ScanFactor::zOf(const Mat3d& R, const Vec3d& t) const {
+    Eigen::Matrix<double, 13, 1> z;
+    for (int j = 0; j < 3; ++j)
+        for (int k = 0; k < 3; ++k) z[3 * j + k] = R(j, k);
+    z.segment<3>(9) = R * p0_ + t - q0_;
+    z[12] = 1.0;
+    return z;
+}
+
+void ScanFactor::sum(const double* x) const {
     const Eigen::Quaterniond q(x[6], x[3], x[4], x[5]);
     const Mat3d R = q.normalized().toRotationMatrix();
     const Vec3d t(x[0], x[1], x[2]);
-    const bool lin = H && g;
-    double cost = 0, r[3], Jt[18];
-    if (!lin) {
-        for (size_t i = 0; i < corr_.size(); ++i) {
-            const Correspondence& c = corr_[i];
-            const int d = residualDim(c.type);
-            correspondenceResidual(c, R, t, r, nullptr);
-            const double s = sqrt_w_[i] * inv_sigma_, s2 = s * s;
-            for (int k = 0; k < d; ++k) cost += s2 * r[k] * r[k];
-        }
-        return 0.5 * cost;
-    }
-    // The weighted rows gathered, then H = J^T J and g = J^T r in one product each.
-    const Eigen::Index n = num_residuals();
-    if (rows_.rows() != n) rows_.resize(n, 6), res_.resize(n);
+    p0_.setZero();
+    q0_.setZero();
+    for (const Correspondence& c : corr_) p0_ += c.p, q0_ += c.q;
+    if (!corr_.empty()) p0_ /= static_cast<double>(corr_.size()), q0_ /= static_cast<double>(corr_.size());
+    // Each weighted residual's row c (residual s a^T (R p + t - q) = c . z), the residual itself
+    // computed directly (its few centimetres are not the difference of the row's metres).
+    Eigen::Matrix<double, Eigen::Dynamic, 13> C(num_residuals(), 13);
+    Eigen::VectorXd r0(num_residuals());
     Eigen::Index row = 0;
+    double r[3];
+    Vec3d a[3];
     for (size_t i = 0; i < corr_.size(); ++i) {
         const Correspondence& c = corr_[i];
-        const int d = residualDim(c.type);
-        correspondenceResidual(c, R, t, r, Jt);
+        const int d = residualAxes(c, a);
+        correspondenceResidual(c, R, t, r, nullptr);
         const double s = sqrt_w_[i] * inv_sigma_;
+        const Vec3d p = c.p - p0_;
         for (int k = 0; k < d; ++k, ++row) {
-            const double sr = s * r[k];
-            cost += sr * sr;
-            res_[row] = sr;
-            for (int a = 0; a < 6; ++a) rows_(row, a) = s * Jt[6 * k + a];
+            for (int j = 0; j < 3; ++j)
+                for (int m = 0; m < 3; ++m) C(row, 3 * j + m) = s * a[k][j] * p[m];
+            C.row(row).segment<3>(9) = s * a[k].transpose();
+            C(row, 12) = -s * a[k].dot(c.q - q0_);
+            r0[row] = s * r[k];
         }
     }
-    H->setZero();
-    H->selfadjointView<Eigen::Lower>().rankUpdate(rows_.transpose());
-    *H = H->selfadjointView<Eigen::Lower>();
-    g->noalias() = rows_.transpose() * res_;
-    return 0.5 * cost;
+    S_.setZero();
+    S_.selfadjointView<Eigen::Lower>().rankUpdate(C.transpose());
+    S_ = S_.selfadjointView<Eigen::Lower>();
+    b_.noalias() = C.transpose() * r0;
+    cost0_ = 0.5 * r0.squaredNorm();
+    z0_ = zOf(R, t);
+    sums_ = true;
+}
+
+double ScanFactor::linearize(const double* x, Mat6d* H, Vec6d* g) const {
+    if (!sums_) sum(x);
+    const Eigen::Quaterniond q(x[6], x[3], x[4], x[5]);
+    const Mat3d R = q.normalized().toRotationMatrix();
+    const Vec3d t(x[0], x[1], x[2]);
+    const Eigen::Matrix<double, 13, 1> dz = zOf(R, t) - z0_;
+    const Eigen::Matrix<double, 13, 1> Sdz = S_ * dz;
+    const double cost = cost0_ + dz.dot(b_) + 0.5 * dz.dot(Sdz);
+    if (!(H && g)) return cost;
+    // D = dz / d[dt, dtheta]: vec(R Exp(dtheta)) moves by vec(R [e_m]x) per unit theta_m;
+    // R p0 + t - q0 by dt, and by R (e_m x p0) per unit theta_m.
+    Eigen::Matrix<double, 13, 6> D = Eigen::Matrix<double, 13, 6>::Zero();
+    for (int m = 0; m < 3; ++m) {
+        Mat3d E = Mat3d::Zero();  // [e_m]x
+        E(1, 2) = m == 0 ? -1 : 0, E(2, 1) = m == 0 ? 1 : 0;
+        E(0, 2) = m == 1 ? 1 : 0, E(2, 0) = m == 1 ? -1 : 0;
+        E(0, 1) = m == 2 ? -1 : 0, E(1, 0) = m == 2 ? 1 : 0;
+        const Mat3d RE = R * E;
+        for (int j = 0; j < 3; ++j)
+            for (int k = 0; k < 3; ++k) D(3 * j + k, 3 + m) = RE(j, k);
+        D.block<3, 1>(9, 3 + m) = RE * p0_;
+    }
+    D.block<3, 3>(9, 0).setIdentity();
+    *g = D.transpose() * (b_ + Sdz);
+    *H = D.transpose() * S_ * D;
+    *H = 0.5 * (*H + H->transpose());
+    return cost;
 }
 
 }  // namespace superloc::fusion

@@ -54,6 +54,7 @@ class ScanFactor : public ceres::CostFunction {
     /// Hands the correspondences back (the factor is empty afterwards).
     std::vector<Correspondence> release() {
         sqrt_w_.clear();
+        sums_ = false;
         return std::move(corr_);
     }
 
@@ -62,17 +63,28 @@ class ScanFactor : public ceres::CostFunction {
 
     /// Cost 0.5 * sum of the squared weighted residuals at pose x (Ceres' 7-vector: t, then
     /// the quaternion x y z w) and, when H and g are not null, the normal equations in the
-    /// pose manifold's tangent [dt, dtheta]: H = J^T J, g = J^T r. One pass, no Jacobian stored
-    /// (fusion::solveFrame's scan-only path). Not for concurrent calls on one factor: the
-    /// weighted rows are gathered in the factor's scratch and multiplied in one product.
+    /// pose manifold's tangent [dt, dtheta]: H = J^T J, g = J^T r. Each residual is linear in
+    /// z = [vec(R), R p0 + t - q0, 1] (p0, q0: the correspondences' centroids), r_i = c_i . z, so
+    /// the first call after the weights are set sums S = sum c_i c_i^T (13 x 13), b = S z0 and
+    /// the cost at its pose x0 in one pass over the correspondences; every call then costs the
+    /// same whatever their number: cost(x) = cost0 + dz^T b + dz^T S dz / 2 (dz = z - z0, so no
+    /// large terms cancel), g = D^T (b + S dz), H = D^T S D with D = dz/d(tangent). Equal to
+    /// the sums over the residuals to rounding (test ScanFactor.LinearizeFromItsSumsIsTheDirectSum).
+    /// Not for concurrent calls on one factor (the sums are the factor's scratch).
     double linearize(const double* x, Mat6d* H, Vec6d* g) const;
 
    private:
     std::vector<Correspondence> corr_;
     std::vector<double> sqrt_w_;
     double inv_sigma_;
-    mutable Eigen::Matrix<double, Eigen::Dynamic, 6> rows_;  ///< linearize's weighted Jacobian
-    mutable Eigen::VectorXd res_;                           ///< and residuals
+    // linearize's sums (valid while sums_): S = sum c c^T, b = S z0, the cost at z0, centroids.
+    mutable bool sums_ = false;
+    mutable Eigen::Matrix<double, 13, 13> S_;
+    mutable Eigen::Matrix<double, 13, 1> b_, z0_;
+    mutable double cost0_ = 0;
+    mutable Vec3d p0_, q0_;
+    void sum(const double* x) const;
+    Eigen::Matrix<double, 13, 1> zOf(const Mat3d& R, const Vec3d& t) const;
 };
 
 }  // namespace superloc::fusion
