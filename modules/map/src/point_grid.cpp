@@ -75,6 +75,13 @@ const PointGrid::Slot* PointGrid::find(int64_t x, int64_t y, int64_t z) const {
     }
 }
 
+void PointGrid::prefetch(const Vec3f& q) const {
+    if (table_.empty()) return;
+    const Vec3f s = q * inv_;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return;
+    __builtin_prefetch(&table_[mixVoxelKey(packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()))) & mask_]);
+}
+
 template <class Visit, class Bound>
 void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const {
     if (table_.empty()) return;

@@ -42,6 +42,9 @@ class PointGrid {
     /// search starts from its distance, so only cells nearer than it are visited. The answer is
     /// the same.
     std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist, uint32_t hint = kNone) const;
+    /// Asks the CPU to fetch the hash slot of q's cell (a query a few ahead of the current one:
+    /// its probe then finds the slot in cache). No effect on any answer.
+    void prefetch(const Vec3f& q) const;
     /// Up to k points within max_dist (clamped to 2 cell()) of q, nearest first.
     void knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx, std::vector<float>& sq_dists) const;
     /// Cells holding at least one point.

@@ -59,6 +59,9 @@ class VoxelMap {
     double levelSize(int level) const { return levels_.at(static_cast<size_t>(level)).size; }
     /// Statistics of the voxel containing x at `level` (0 = finest), or nullptr when it is empty.
     inline const VoxelStats* find(int level, const Vec3f& x) const;
+    /// Asks the CPU to fetch the table slot find(level, x) starts at (a query a few ahead of the
+    /// current one: the probe then finds it in cache). No effect on any answer.
+    inline void prefetch(int level, const Vec3f& x) const;
 
     std::vector<VoxelLevelInfo> info() const;
     /// Resident bytes of all levels (tables and statistics).
@@ -97,6 +100,15 @@ inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
         if (slot.key == key) return &slot.stats;
         if (slot.key == kEmpty) return nullptr;
     }
+}
+
+inline void VoxelMap::prefetch(int level, const Vec3f& x) const {
+    const Level& L = levels_[static_cast<size_t>(level)];
+    if (L.table.empty()) return;
+    const Vec3f s = x * L.inv;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return;
+    const uint64_t key = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
+    __builtin_prefetch(&L.table[mixVoxelKey(key) & L.mask]);
 }
 
 }  // namespace superloc::map
