@@ -522,6 +522,58 @@ TEST(FrameProblem, CauchyPriorKernelBoundsAnUnreportedJumpOnTheBlindAxis) {
 // first-order bias correction brings the residual near zero; with the biases left at zero it is
 // large. Then the factor's Jacobians (autodiff through the bias correction and the quaternion
 // maps) against central differences in the tangent spaces, at a state away from the solution.
+TEST(ImuFactor, AnalyticJacobiansAreTheAutodiffOnes) {
+    // The solves' factor (analytic Jacobians) against the same residual differentiated with dual
+    // numbers: the same residual, and the same Jacobian in each block's tangent (a pose's ambient
+    // columns times PoseManifold's PlusJacobian), at states off the prediction and biases off
+    // their linearisation point.
+    imu::Preintegration pre(imu::ImuBias{Vec3d(0.02, -0.01, 0.03), Vec3d(0.002, -0.001, 0.003)},
+                            imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 40; ++k) pre.integrate(Vec3d(0.4, 0.2, 9.7), Vec3d(0.2, -0.3, 0.5), 0.005);
+    const Vec3d g(0, 0, -9.81);
+    std::unique_ptr<ceres::CostFunction> analytic(ImuFactor::Create(pre, g, 0.001, 0.0001));
+    std::unique_ptr<ceres::CostFunction> autodiff(ImuFactor::CreateAutoDiff(pre, g, 0.001, 0.0001));
+    std::mt19937 rng(3);
+    std::normal_distribution<double> N(0, 1);
+    PoseManifold m;
+    for (int trial = 0; trial < 5; ++trial) {
+        FrameState si, sj;
+        si.setPose(makePoseRPY(1 + N(rng), 2 * N(rng), 0.5, 0.3 * N(rng), 0.3 * N(rng), 2 * N(rng)));
+        si.setVelocity(Vec3d(N(rng), N(rng), 0.1 * N(rng)));
+        si.setBias({Vec3d(0.1 * N(rng), 0.1 * N(rng), 0.1 * N(rng)), Vec3d(0.01 * N(rng), 0.01 * N(rng), 0.01 * N(rng))});
+        sj.setPose(si.T_map_imu() * makePoseRPY(0.2 + 0.05 * N(rng), 0.05 * N(rng), 0.02 * N(rng), 0.1 * N(rng),
+                                                 0.1 * N(rng), 0.2 + 0.1 * N(rng)));
+        sj.setVelocity(si.velocity() + Vec3d(0.1 * N(rng), 0.1 * N(rng), 0.1 * N(rng)));
+        sj.setBias({Vec3d(0.1 * N(rng), 0.1 * N(rng), 0.1 * N(rng)), Vec3d(0.01 * N(rng), 0.01 * N(rng), 0.01 * N(rng))});
+        double* blocks[4] = {si.pose, si.speed_bias, sj.pose, sj.speed_bias};
+        const int sizes[4] = {7, 9, 7, 9};
+        std::vector<double> Ja[4], Jd[4];
+        double* pa[4];
+        double* pd[4];
+        for (int k = 0; k < 4; ++k) {
+            Ja[k].resize(15 * sizes[k]), Jd[k].resize(15 * sizes[k]);
+            pa[k] = Ja[k].data(), pd[k] = Jd[k].data();
+        }
+        Eigen::Matrix<double, 15, 1> ra, rd;
+        ASSERT_TRUE(analytic->Evaluate(blocks, ra.data(), pa));
+        ASSERT_TRUE(autodiff->Evaluate(blocks, rd.data(), pd));
+        EXPECT_LT((ra - rd).norm(), 1e-12 * rd.norm()) << trial;
+        for (int k = 0; k < 4; ++k) {
+            using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+            Eigen::MatrixXd A = Eigen::Map<RowMat>(Ja[k].data(), 15, sizes[k]);
+            Eigen::MatrixXd D = Eigen::Map<RowMat>(Jd[k].data(), 15, sizes[k]);
+            if (sizes[k] == 7) {
+                double P[42];
+                m.PlusJacobian(blocks[k], P);
+                const Eigen::Matrix<double, 7, 6, Eigen::RowMajor> Pm = Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+                A = A * Pm;
+                D = D * Pm;
+            }
+            EXPECT_LT((A - D).norm(), 1e-8 * D.norm()) << "trial " << trial << " block " << k << "\n" << A << "\n\n" << D;
+        }
+    }
+}
+
 TEST(ImuFactor, BiasPathResidualAndJacobians) {
     const imu::ImuBias b{Vec3d(0.08, -0.05, 0.1), Vec3d(0.01, -0.006, 0.004)};
     const Vec3d w(0.2, -0.3, 0.5), a_body(0.4, 0.2, -0.1), g(0, 0, -9.81);

@@ -24,8 +24,12 @@ struct ImuFactor {
     template <typename T>
     bool operator()(const T* pose_i, const T* sb_i, const T* pose_j, const T* sb_j, T* res) const;
 
+    /// The factor with analytic Jacobians (imu_factor.cpp), what the solves use.
     static ceres::CostFunction* Create(const imu::Preintegration& pre, const Vec3d& g_map,
                                        double acc_bias_rw, double gyro_bias_rw);
+    /// The same factor differentiated automatically (tests: the analytic Jacobians against it).
+    static ceres::CostFunction* CreateAutoDiff(const imu::Preintegration& pre, const Vec3d& g_map,
+                                               double acc_bias_rw, double gyro_bias_rw);
 
     imu::Preintegration pre_;
     Vec3d g_;
