@@ -8,6 +8,7 @@
 #include <superloc/fusion/relative_pose_factor.h>
 #include <superloc/fusion/pose_manifold.h>
 #include <superloc/fusion/scan_factor.h>
+#include <superloc/fusion/state_prior_factor.h>
 
 #include <ceres/ceres.h>
 
@@ -572,6 +573,71 @@ TEST(ImuFactor, AnalyticJacobiansAreTheAutodiffOnes) {
             EXPECT_LT((A - D).norm(), 1e-8 * D.norm()) << "trial " << trial << " block " << k << "\n" << A << "\n\n" << D;
         }
     }
+}
+
+TEST(FrameProblem, WindowInformationIsCeresProblemsMarginal) {
+    // imuWindowStateInformation evaluates the window's factors one by one (no Ceres problem):
+    // the same information as Ceres' Jacobian of the same factors in a problem, the previous
+    // state eliminated, in StatePriorFactor's coordinates. With odom_alt's prior and a
+    // previous-state prior that correlates its blocks.
+    imu::Preintegration pre(imu::ImuBias{Vec3d(0.02, -0.01, 0.03), Vec3d(0.002, -0.001, 0.003)},
+                            imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.4, 0.2, 9.7), Vec3d(0.2, -0.3, 0.5), 0.005);
+    FrameState prev, cur;
+    prev.setPose(makePoseRPY(3, -2, 0.5, 0.1, -0.05, 0.8));
+    prev.setVelocity(Vec3d(1.0, 0.3, 0.0));
+    prev.setBias({Vec3d(0.05, 0.0, -0.02), Vec3d(0.001, 0.002, 0.0)});
+    cur.setPose(prev.T_map_imu() * makePoseRPY(0.1, 0.03, 0.0, 0.01, 0.0, 0.05));
+    cur.setVelocity(Vec3d(1.1, 0.35, 0.01));
+    cur.setBias({Vec3d(0.051, 0.0, -0.02), Vec3d(0.001, 0.002, 0.0001)});
+    StatePrior pp;
+    pp.T_ref = prev.T_map_imu() * makePoseRPY(0.01, 0, 0, 0, 0.002, 0);
+    std::mt19937 rng(5);
+    std::normal_distribution<double> N(0, 1);
+    Mat15d L = Mat15d::Zero();
+    for (int i = 0; i < 15; ++i)
+        for (int j = 0; j <= i; ++j) L(i, j) = i == j ? 20.0 + 5 * std::abs(N(rng)) : N(rng);
+    pp.sqrt_info = L.transpose();
+    RelativePosePrior rel;
+    rel.delta = prev.T_map_imu().inverse() * cur.T_map_imu() * makePoseRPY(0.02, 0, 0, 0, 0, 0.01);
+    rel.sqrt_info = Vec6d(50, 40, 30, 200, 300, 100).asDiagonal();
+    FusionParams params;
+    FrameProblemInputs in;
+    in.prev = &prev;
+    in.cur = &cur;
+    in.setImu(&pre, imu::ImuParams{});
+    in.prev_prior = &pp;
+    in.prior = rel;
+    const auto direct = imuWindowStateInformation(in, params);
+    ASSERT_TRUE(direct.has_value());
+    // The same factors in a Ceres problem.
+    FrameState a = prev, b = cur;
+    static PoseManifold manifold;
+    ceres::Problem::Options popt;
+    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(popt);
+    for (FrameState* st : {&a, &b}) {
+        problem.AddParameterBlock(st->pose, 7, &manifold);
+        problem.AddParameterBlock(st->speed_bias, 9);
+    }
+    problem.AddResidualBlock(ImuFactor::CreateAutoDiff(pre, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr, a.pose,
+                             a.speed_bias, b.pose, b.speed_bias);
+    problem.AddResidualBlock(StatePriorFactor::Create(pp), nullptr, a.pose, a.speed_bias);
+    problem.AddResidualBlock(RelativePoseFactor::Create(rel.delta, rel.sqrt_info), nullptr, a.pose, b.pose);
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = {a.pose, a.speed_bias, b.pose, b.speed_bias};
+    ceres::CRSMatrix crs;
+    ASSERT_TRUE(problem.Evaluate(eo, nullptr, nullptr, nullptr, &crs));
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+    for (int r = 0; r < crs.num_rows; ++r)
+        for (int k = crs.rows[r]; k < crs.rows[r + 1]; ++k) J(r, crs.cols[k]) = crs.values[k];
+    const Eigen::MatrixXd H = J.transpose() * J;
+    const Mat15d Hpp = H.topLeftCorner(15, 15), Hcc = H.bottomRightCorner(15, 15), Hcp = H.bottomLeftCorner(15, 15);
+    Mat15d M = Hcc - Hcp * Hpp.ldlt().solve(Hcp.transpose());
+    Mat15d A = Mat15d::Identity();
+    A.topLeftCorner<3, 3>() = cur.T_map_imu().linear().transpose();
+    M = A * M * A.transpose();
+    EXPECT_LT((*direct - M).norm(), 1e-8 * M.norm()) << *direct << "\n\n" << M;
 }
 
 TEST(ImuFactor, BiasPathResidualAndJacobians) {

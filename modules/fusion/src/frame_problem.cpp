@@ -9,6 +9,8 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <vector>
 
 namespace superloc::fusion {
 
@@ -86,10 +88,9 @@ Mat30d normalMatrix(const ceres::CRSMatrix& J) {
     return H;
 }
 
-std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
-    const auto J = windowJacobian(problem, prev, cur);
-    if (!J) return std::nullopt;
-    const Mat30d H = normalMatrix(*J);
+/// The current state's StatePrior of the window's information H, the previous state
+/// eliminated (Schur complement).
+std::optional<StatePrior> marginalizeInformation(const Mat30d& H, const FrameState& cur) {
     const Mat15d Hpp = H.topLeftCorner<15, 15>(), Hcc = H.bottomRightCorner<15, 15>();
     const Mat15d Hcp = H.bottomLeftCorner<15, 15>();
     // Hpp is positive definite: the previous state always has its prior.
@@ -98,26 +99,74 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
     return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
 }
 
-/// The IMU window's problem over copies `prev`, `cur` of in's states: both states' blocks, the
-/// IMU factor and the previous state's prior (in.prev_prior, else the fixed sigmas).
-void addImuWindow(ceres::Problem& problem, const FrameProblemInputs& in, const FusionParams& params, FrameState& prev,
-                  FrameState& cur) {
-    static PoseManifold manifold;
-    for (FrameState* s : {&prev, &cur}) {
-        problem.AddParameterBlock(s->pose, 7, &manifold);
-        problem.AddParameterBlock(s->speed_bias, 9);
-    }
-    problem.AddResidualBlock(ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw), nullptr,
-                             prev.pose, prev.speed_bias, cur.pose, cur.speed_bias);
-    problem.AddResidualBlock(StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params)),
-                             nullptr, prev.pose, prev.speed_bias);
+std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
+    const auto J = windowJacobian(problem, prev, cur);
+    if (!J) return std::nullopt;
+    return marginalizeInformation(normalMatrix(*J), cur);
 }
 
-ceres::Problem::Options windowProblemOptions() {
-    ceres::Problem::Options popt;
-    popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
-    popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    return popt;
+/// One factor of the window and the blocks it reads (0 prev pose, 1 prev speed-bias, 2 cur
+/// pose, 3 cur speed-bias).
+struct WindowTerm {
+    std::unique_ptr<ceres::CostFunction> f;
+    std::vector<int> blocks;
+};
+
+/// The factors' Jacobian over the window (30 tangent columns, as windowJacobian's), evaluated
+/// factor by factor without building a Ceres problem (no losses: the window's factors have
+/// none); each pose block's ambient columns times PoseManifold's PlusJacobian, as Ceres does.
+std::optional<Eigen::Matrix<double, Eigen::Dynamic, 30>> directWindowJacobian(const std::vector<WindowTerm>& terms,
+                                                                             FrameState& prev, FrameState& cur) {
+    static const PoseManifold manifold;
+    double* block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
+    const int ambient[4] = {7, 9, 7, 9}, col[4] = {0, 6, 15, 21};
+    int rows = 0;
+    for (const auto& t : terms) rows += t.f->num_residuals();
+    Eigen::Matrix<double, Eigen::Dynamic, 30> J = Eigen::Matrix<double, Eigen::Dynamic, 30>::Zero(rows, 30);
+    int row = 0;
+    std::vector<double> r;
+    std::vector<std::vector<double>> jac;
+    for (const auto& t : terms) {
+        const int n = t.f->num_residuals();
+        std::vector<const double*> params;
+        std::vector<double*> jp;
+        jac.assign(t.blocks.size(), {});
+        for (size_t k = 0; k < t.blocks.size(); ++k) {
+            params.push_back(block[t.blocks[k]]);
+            jac[k].assign(static_cast<size_t>(n * ambient[t.blocks[k]]), 0.0);
+            jp.push_back(jac[k].data());
+        }
+        r.assign(static_cast<size_t>(n), 0.0);
+        if (!t.f->Evaluate(params.data(), r.data(), jp.data())) return std::nullopt;
+        for (size_t k = 0; k < t.blocks.size(); ++k) {
+            const int b = t.blocks[k];
+            using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+            const Eigen::Map<const RowMat> Ja(jac[k].data(), n, ambient[b]);
+            if (ambient[b] == 7) {
+                double P[42];
+                manifold.PlusJacobian(block[b], P);
+                J.block(row, col[b], n, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+            } else {
+                J.block(row, col[b], n, 9) = Ja;
+            }
+        }
+        row += n;
+    }
+    if (!J.allFinite()) return std::nullopt;
+    return J;
+}
+
+/// The IMU window's factors: the IMU factor and the previous state's prior (in.prev_prior, else
+/// the fixed sigmas), as addImuWindow adds them to a problem.
+std::vector<WindowTerm> imuWindowTerms(const FrameProblemInputs& in, const FusionParams& params, const FrameState& prev) {
+    std::vector<WindowTerm> t;
+    t.push_back({std::unique_ptr<ceres::CostFunction>(
+                     ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw)),
+                 {0, 1, 2, 3}});
+    t.push_back({std::unique_ptr<ceres::CostFunction>(
+                     StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params))),
+                 {0, 1}});
+    return t;
 }
 
 /// The scan-only problem (no IMU factor, no prior: real data without IMU, the start check's
@@ -359,12 +408,14 @@ std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, co
     if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
     // Copies: the problem's blocks are ours, and the caller's states stay as they are.
     FrameState prev = *in.prev, cur = *in.cur;
-    ceres::Problem problem(windowProblemOptions());
-    addImuWindow(problem, in, params, prev, cur);
+    std::vector<WindowTerm> terms = imuWindowTerms(in, params, prev);
     if (in.prior)  // odom_alt's relative motion between the two states (PosePosterior)
-        problem.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info), nullptr, prev.pose,
-                                 cur.pose);
-    const auto m = marginalize(problem, prev, cur);
+        terms.push_back({std::unique_ptr<ceres::CostFunction>(
+                             RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info)),
+                         {0, 2}});
+    const auto J = directWindowJacobian(terms, prev, cur);
+    if (!J) return std::nullopt;
+    const auto m = marginalizeInformation(J->transpose() * *J, cur);
     if (!m) return std::nullopt;
     return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);
 }
@@ -397,19 +448,14 @@ std::optional<WeighedWindowInformation> imuWindowStateInformationWeighed(const F
     FrameState prev = *in.prev, cur = *in.cur;
     // The window without odom_alt (IMU factor and the previous state's prior), and odom_alt's
     // error alone (its factor with unit information): its 6 x 30 Jacobian E.
-    ceres::Problem rest(windowProblemOptions());
-    addImuWindow(rest, in, params, prev, cur);
-    rest.AddResidualBlock(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity()), nullptr, prev.pose, cur.pose);
-    const auto J = windowJacobian(rest, prev, cur);
-    if (!J || J->num_rows < 6) return std::nullopt;
+    std::vector<WindowTerm> terms = imuWindowTerms(in, params, prev);
+    terms.push_back({std::unique_ptr<ceres::CostFunction>(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity())),
+                     {0, 2}});
+    const auto J = directWindowJacobian(terms, prev, cur);
+    if (!J || J->rows() < 6) return std::nullopt;
     // The relative factor's 6 rows are the last ones; the others are H_rest's.
-    ceres::CRSMatrix Jr = *J;
-    Jr.num_rows -= 6;
-    Jr.rows.resize(static_cast<size_t>(Jr.num_rows) + 1);
-    Eigen::Matrix<double, 6, 30> E = Eigen::Matrix<double, 6, 30>::Zero();
-    for (int r = 0; r < 6; ++r)
-        for (int a = J->rows[Jr.num_rows + r]; a < J->rows[Jr.num_rows + r + 1]; ++a)
-            E(r, J->cols[a]) = J->values[a];
+    const Eigen::Matrix<double, 6, 30> E = J->bottomRows<6>();
+    const Eigen::Matrix<double, Eigen::Dynamic, 30> Jr = J->topRows(J->rows() - 6);
     // The solve weighed odom_alt's error at B_s; it is worth B_t. Its estimate's error is then
     // H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (the sandwich), H_s = H_rest + E^T B_s E.
     const Mat6d Bs = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
@@ -419,7 +465,7 @@ std::optional<WeighedWindowInformation> imuWindowStateInformationWeighed(const F
     Vec6d inv = Vec6d::Zero();
     for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
     const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
-    const Mat30d Hrest = normalMatrix(Jr);
+    const Mat30d Hrest = Jr.transpose() * Jr;
     const Mat30d Hodom = E.transpose() * Bs * E, Nodom = E.transpose() * (Bs * Bt_pinv * Bs) * E;
     // The scan on the current pose, weighed by the solve as it is worth: its information in body
     // axes (a right perturbation) is A^T H A in the window's tangent coordinates (translation in
