@@ -304,14 +304,10 @@ class CondensedScan : public ceres::CostFunction {
             // Tangent Jacobian Jt = D^1/2 L^T P (6 x 6), then ambient as ScanFactor::Evaluate:
             // translation columns as they are, rotation columns times 2 M(q)^T.
             const Mat6d Jt = sqrtD.asDiagonal() * Mat6d(ldlt.matrixU()) * P;
-            double M[12];
-            quaternionRightMatrix(x + 3, M);
-            const Eigen::Matrix<double, 3, 4> twoMt =
-                2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
             Eigen::Map<Eigen::Matrix<double, 7, 7, Eigen::RowMajor>> J(jacobians[0]);
             J.setZero();
             J.topLeftCorner<6, 3>() = Jt.leftCols<3>();
-            J.block<6, 4>(0, 3) = Jt.rightCols<3>() * twoMt;
+            J.block<6, 4>(0, 3) = Jt.rightCols<3>() * rotationTangentToAmbient(x + 3);
         }
         return true;
     }

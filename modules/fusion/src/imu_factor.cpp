@@ -74,13 +74,9 @@ class AnalyticImuFactor : public ceres::SizedCostFunction<15, 7, 9, 7, 9> {
         Jsj.block<6, 6>(9, 3) = Eigen::Matrix<double, 6, 6>::Identity();
         const auto pose = [&](const Mat& Jt, const double* xp, double* out) {
             const Mat W = f_.sqrt_info_ * Jt;
-            double M[12];
-            quaternionRightMatrix(xp + 3, M);
-            const Eigen::Matrix<double, 3, 4> twoMt =
-                2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
             Eigen::Map<Eigen::Matrix<double, 15, 7, Eigen::RowMajor>> J(out);
             J.leftCols<3>() = W.leftCols<3>();
-            J.rightCols<4>() = W.rightCols<3>() * twoMt;
+            J.rightCols<4>() = W.rightCols<3>() * rotationTangentToAmbient(xp + 3);
         };
         const auto speedBias = [&](const Mat& Jt, double* out) {
             Eigen::Map<Eigen::Matrix<double, 15, 9, Eigen::RowMajor>> J(out);

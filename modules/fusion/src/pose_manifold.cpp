@@ -31,6 +31,12 @@ void quaternionRightMatrix(const double* q, double* M) {
     for (int k = 0; k < 12; ++k) M[k] = m[k];
 }
 
+Eigen::Matrix<double, 3, 4> rotationTangentToAmbient(const double* q) {
+    double M[12];
+    quaternionRightMatrix(q, M);
+    return 2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
+}
+
 bool PoseManifold::PlusJacobian(const double* x, double* jac) const {
     Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>> J(jac);
     J.setZero();

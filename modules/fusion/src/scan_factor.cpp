@@ -118,12 +118,7 @@ bool ScanFactor::Evaluate(double const* const* parameters, double* residuals,
     const Vec3d t(x[0], x[1], x[2]);
     double* J = (jacobians && jacobians[0]) ? jacobians[0] : nullptr;
     // Ambient Jacobian of the rotation part: J_theta (1x3) * 2 M(q)^T (3x4), see PoseManifold.
-    Eigen::Matrix<double, 3, 4> twoMt;
-    if (J) {
-        double M[12];
-        quaternionRightMatrix(x + 3, M);
-        twoMt = 2.0 * Eigen::Map<Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>(M).transpose();
-    }
+    const Eigen::Matrix<double, 3, 4> twoMt = rotationTangentToAmbient(x + 3);
     int row = 0;
     double r[3], Jt[18];
     for (size_t i = 0; i < corr_.size(); ++i) {
@@ -210,11 +205,7 @@ double ScanFactor::linearize(const double* x, Mat6d* H, Vec6d* g) const {
     // R p0 + t - q0 by dt, and by R (e_m x p0) per unit theta_m.
     Eigen::Matrix<double, 13, 6> D = Eigen::Matrix<double, 13, 6>::Zero();
     for (int m = 0; m < 3; ++m) {
-        Mat3d E = Mat3d::Zero();  // [e_m]x
-        E(1, 2) = m == 0 ? -1 : 0, E(2, 1) = m == 0 ? 1 : 0;
-        E(0, 2) = m == 1 ? 1 : 0, E(2, 0) = m == 1 ? -1 : 0;
-        E(0, 1) = m == 2 ? -1 : 0, E(1, 0) = m == 2 ? 1 : 0;
-        const Mat3d RE = R * E;
+        const Mat3d RE = R * skew(Vec3d::Unit(m));
         for (int j = 0; j < 3; ++j)
             for (int k = 0; k < 3; ++k) D(3 * j + k, 3 + m) = RE(j, k);
         D.block<3, 1>(9, 3 + m) = RE * p0_;

@@ -204,18 +204,21 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     if (hint && hint->size() != pts_body.size()) hint->assign(pts_body.size(), map::PointGrid::kNone);
     // The hash slots a query probes first are scattered over tables of megabytes: each query
     // asks for those of the query kAhead later, so that its own are in cache when it comes.
+    // Each map position is computed once, kAhead queries early, and kept until its query.
     constexpr uint32_t kAhead = 8;
     const bool planes_first = p.voxel_planes && vm.levels() > 0;
+    Vec3d ahead[kAhead];
     const auto prefetch = [&](uint32_t k) {
         if (k >= pts_body.size()) return;
-        const Vec3f xk = (R * pts_body[k] + t).cast<float>();
+        ahead[k % kAhead] = R * pts_body[k] + t;
+        const Vec3f xk = ahead[k % kAhead].cast<float>();
         if (planes_first) vm.prefetch(0, xk);
         else grid.prefetch(xk);
     };
     for (uint32_t k = 0; k < kAhead; ++k) prefetch(k);
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
+        const Vec3d x = ahead[i % kAhead];
         prefetch(i + kAhead);
-        const Vec3d x = R * pts_body[i] + t;
         const Vec3f xf = x.cast<float>();
         const map::VoxelStats* v = p.voxel_planes && vm.levels() > 0 ? vm.find(0, xf) : nullptr;
         int level = 0;

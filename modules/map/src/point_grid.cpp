@@ -4,7 +4,6 @@
 #include <superloc/map/point_grid.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,9 +11,16 @@ namespace superloc::map {
 
 namespace {
 constexpr float kMaxIndex = float(1 << 20) - 4;  // packVoxelIndices is exact within +-2^20
-}  // namespace
 
-namespace {
+/// q's cell indices c and q in cell units s; false for a q not finite or within two cells of the
+/// key range's end (a query's neighbours must be packable too).
+bool queryCell(const Vec3f& q, float inv, Vec3f& s, int64_t c[3]) {
+    s = q * inv;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return false;
+    c[0] = floorToInt(s.x()), c[1] = floorToInt(s.y()), c[2] = floorToInt(s.z());
+    return true;
+}
+
 /// Each point's cell key, or ~0 for a point outside the key range or not finite.
 std::vector<uint64_t> cellKeys(const std::vector<Vec3f>& points, float inv) {
     std::vector<uint64_t> keys(points.size(), ~0ull);
@@ -76,18 +82,17 @@ const PointGrid::Slot* PointGrid::find(int64_t x, int64_t y, int64_t z) const {
 }
 
 void PointGrid::prefetch(const Vec3f& q) const {
-    if (table_.empty()) return;
-    const Vec3f s = q * inv_;
-    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return;
-    __builtin_prefetch(&table_[mixVoxelKey(packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()))) & mask_]);
+    Vec3f s;
+    int64_t c[3];
+    if (table_.empty() || !queryCell(q, inv_, s, c)) return;
+    __builtin_prefetch(&table_[mixVoxelKey(packVoxelIndices(c[0], c[1], c[2])) & mask_]);
 }
 
 template <class Visit, class Bound>
 void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const {
-    if (table_.empty()) return;
-    const Vec3f s = q * inv_;
-    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > kMaxIndex - 2) return;
-    const int64_t c[3] = {floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z())};
+    Vec3f s;
+    int64_t c[3];
+    if (table_.empty() || !queryCell(q, inv_, s, c)) return;
     // Per axis, the squared distance [m^2] from q to the slab of the cells o = -2..2 away along it
     // (0 for its own): lo / hi is q's distance to its cell's lower / upper face.
     const float edge = static_cast<float>(cell_);

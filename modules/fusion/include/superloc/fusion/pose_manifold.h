@@ -6,6 +6,8 @@
 
 #include <ceres/manifold.h>
 
+#include <Eigen/Core>
+
 namespace superloc::fusion {
 
 class PoseManifold : public ceres::Manifold {
@@ -22,5 +24,9 @@ class PoseManifold : public ceres::Manifold {
 /// x y z w). Its columns are orthonormal, so 2 M^T maps a rotation-tangent Jacobian to an
 /// ambient one that PlusJacobian maps back exactly (used by analytic cost functions).
 void quaternionRightMatrix(const double* q_xyzw, double* M_row_major_4x3);
+/// 2 M(q)^T (3 x 4): a pose block's rotation-tangent Jacobian columns times this are its 4
+/// ambient quaternion columns, which PlusJacobian maps back exactly (the analytic cost
+/// functions: ScanFactor, the condensed scan, the IMU factor).
+Eigen::Matrix<double, 3, 4> rotationTangentToAmbient(const double* q_xyzw);
 
 }  // namespace superloc::fusion

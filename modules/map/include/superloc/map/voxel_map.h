@@ -82,6 +82,9 @@ class VoxelMap {
         size_t count = 0;
     };
     void buildLevel(const std::vector<Vec3f>& points, Level& level) const;
+    /// The key of the voxel containing x at level L; false for an empty level, or an x not
+    /// finite or out of the key range.
+    static inline bool keyOf(const Level& L, const Vec3f& x, uint64_t& key);
 
     Params params_;
     std::vector<Level> levels_;
@@ -89,12 +92,18 @@ class VoxelMap {
 
 // ---------------------------------------------------------------------------------------------
 
+inline bool VoxelMap::keyOf(const Level& L, const Vec3f& x, uint64_t& key) {
+    if (L.table.empty()) return false;
+    const Vec3f s = x * L.inv;
+    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return false;
+    key = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
+    return true;
+}
+
 inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
     const Level& L = levels_[static_cast<size_t>(level)];
-    if (L.table.empty()) return nullptr;
-    const Vec3f s = x * L.inv;
-    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return nullptr;
-    const uint64_t key = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
+    uint64_t key;
+    if (!keyOf(L, x, key)) return nullptr;
     for (uint64_t h = mixVoxelKey(key) & L.mask;; h = (h + 1) & L.mask) {
         const Slot& slot = L.table[h];
         if (slot.key == key) return &slot.stats;
@@ -104,11 +113,8 @@ inline const VoxelStats* VoxelMap::find(int level, const Vec3f& x) const {
 
 inline void VoxelMap::prefetch(int level, const Vec3f& x) const {
     const Level& L = levels_[static_cast<size_t>(level)];
-    if (L.table.empty()) return;
-    const Vec3f s = x * L.inv;
-    if (!s.allFinite() || s.cwiseAbs().maxCoeff() > float(1 << 20) - 2) return;
-    const uint64_t key = packVoxelIndices(floorToInt(s.x()), floorToInt(s.y()), floorToInt(s.z()));
-    __builtin_prefetch(&L.table[mixVoxelKey(key) & L.mask]);
+    uint64_t key;
+    if (keyOf(L, x, key)) __builtin_prefetch(&L.table[mixVoxelKey(key) & L.mask]);
 }
 
 }  // namespace superloc::map
