@@ -170,6 +170,18 @@ SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iteration
     Eigen::Map<Eigen::Vector4d>(cur.pose + 3).normalize();
     return out;
 }
+/// solveFrame's solve (sa, ending at a) is Ceres' on the full block (sb, ending at b): usable,
+/// the same iterations, costs and pose to 1e-9.
+void expectSameSolve(const SolveSummary& sa, const FrameState& a, const SolveSummary& sb, const FrameState& b,
+                     int iters) {
+    ASSERT_TRUE(sa.usable);
+    ASSERT_TRUE(sb.usable);
+    EXPECT_EQ(sa.iterations, sb.iterations) << iters;
+    EXPECT_NEAR(sa.initial_cost, sb.initial_cost, 1e-9 * sb.initial_cost);
+    EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-9 * sb.initial_cost);
+    EXPECT_LT(translationDistance(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+    EXPECT_LT(rotationAngle(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+}
 }  // namespace
 
 TEST(FrameProblem, ScanOnlyMatchesCeres) {
@@ -200,13 +212,7 @@ TEST(FrameProblem, ScanOnlyMatchesCeres) {
             p.max_iterations = iters;
             const auto sa = solveFrame(in, p);
             const auto sb = solveWithCeres(scan, b, iters);
-            ASSERT_TRUE(sa.usable);
-            ASSERT_TRUE(sb.usable);
-            EXPECT_EQ(sa.iterations, sb.iterations) << iters;
-            EXPECT_NEAR(sa.initial_cost, sb.initial_cost, 1e-9 * sb.initial_cost);
-            EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-9 * sb.initial_cost);
-            EXPECT_LT(translationDistance(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
-            EXPECT_LT(rotationAngle(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+            expectSameSolve(sa, a, sb, b, iters);
         }
     }
     // The linearization is Ceres' J^T J and J^T r in the manifold's tangent.
@@ -309,13 +315,7 @@ TEST(FrameProblem, CondensedScanIsTheScanToRounding) {
                 p.max_iterations = iters;
                 const auto sa = solveFrame(in, p);
                 const auto sb = solveWithCeres(scan, b, iters, &prior, &prev_b);
-                ASSERT_TRUE(sa.usable);
-                ASSERT_TRUE(sb.usable);
-                EXPECT_EQ(sa.iterations, sb.iterations) << iters;
-                EXPECT_NEAR(sa.initial_cost, sb.initial_cost, 1e-9 * sb.initial_cost);
-                EXPECT_NEAR(sa.final_cost, sb.final_cost, 1e-9 * sb.initial_cost);
-                EXPECT_LT(translationDistance(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
-                EXPECT_LT(rotationAngle(a.T_map_imu(), b.T_map_imu()), 1e-9) << iters;
+                expectSameSolve(sa, a, sb, b, iters);
                 // Far from the start: the solve did something.
                 if (iters == 10) {
                     EXPECT_GT(translationDistance(a.T_map_imu(), T0), 0.01);
