@@ -363,7 +363,10 @@ void BM_RecoveryFrame(benchmark::State& state) {
 /// The association step alone: 2000 features of scan 5 at its GT pose; Arg(0) nearest (kd-tree),
 /// Arg(1) planes (the default), Arg(2) planes without voxel planes (every feature on the bounded
 /// grid fallback: a frame weak in translation, [association] points_below_gamma) on a solve's
-/// first round, Arg(3) the same on a later round (each feature's last match as the search's hint).
+/// first round, Arg(3) the same on a later round (each feature's last match as the search's hint),
+/// Arg(4) the first round as a solve makes it (recording the memo: the search also bounds the
+/// second nearest), Arg(5) a later round as a solve makes it (hint and memo of a round 3 mm and
+/// 0.01 deg away: a settled frame's step; only the features the memo cannot answer searched).
 void BM_Association(benchmark::State& state) {
     const SplitData* d = kitti();
     if (!d) {
@@ -383,17 +386,32 @@ void BM_Association(benchmark::State& state) {
     ap.point_weight = 0.1;
     ap.kind = state.range(0) >= 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
     ap.voxel_planes = state.range(0) <= 1;
-    const bool hinted = state.range(0) == 3;
+    const bool hinted = state.range(0) == 3 || state.range(0) == 5;
+    const bool memo = state.range(0) >= 4;
     d->map->grid();  // built at load by the run (geometry_at_load)
     std::vector<Correspondence> corr;
     AssociationStats st;
-    std::vector<uint32_t> hint;
-    if (hinted) associate(pts, d->gt[5].pose, *d->map, ap, corr, st, nullptr, &hint);
-    for (auto _ : state) {
-        if (!hinted) hint.clear();
-        associate(pts, d->gt[5].pose, *d->map, ap, corr, st, nullptr, ap.voxel_planes ? nullptr : &hint);
-        benchmark::DoNotOptimize(corr.data());
+    std::vector<uint32_t> hint, hint0;
+    localization::AssociationMemo last, m;
+    SE3d T = d->gt[5].pose;
+    if (hinted) associate(pts, T, *d->map, ap, corr, st, nullptr, &hint0, memo ? &last : nullptr);
+    if (state.range(0) == 5) {
+        SE3d step = SE3d::Identity();
+        step.linear() = Eigen::AngleAxisd(0.01 * M_PI / 180, Vec3d(0.3, 0.2, 0.93).normalized()).toRotationMatrix();
+        step.translation() = Vec3d(0.002, -0.002, 0.001);
+        T = T * step;
     }
+    size_t reused = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        hint = hint0;
+        if (memo) m = last;
+        state.ResumeTiming();
+        associate(pts, T, *d->map, ap, corr, st, nullptr, ap.voxel_planes ? nullptr : &hint, memo ? &m : nullptr);
+        benchmark::DoNotOptimize(corr.data());
+        reused = m.reused;
+    }
+    state.counters["reused"] = static_cast<double>(reused);
     state.counters["features"] = static_cast<double>(pts.size());
     state.counters["too_far"] = static_cast<double>(st.too_far);
     state.counters["map_points"] = static_cast<double>(d->map->size());
@@ -455,7 +473,7 @@ BENCHMARK(BM_FrameCampus)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusVelocityAssumed)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusHybrid)->Unit(benchmark::kMillisecond)->Iterations(52);
 BENCHMARK(BM_FrameCampusNearest)->Unit(benchmark::kMillisecond)->Iterations(52);
-BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Association)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RecoveryFrame)->Unit(benchmark::kMillisecond)->Iterations(5);
 
 BENCHMARK_MAIN();

@@ -352,6 +352,95 @@ TEST(PlanesAssociation, AnswersLikeNearestInABoxRoom) {
     }
 }
 
+TEST(PlanesAssociation, TheMemoAnswersExactlyAsTheSearch) {
+    // A solve's rounds: the same features associated at poses a few millimetres to centimetres
+    // apart, with and without the memo (and the hint, as IcpRegistration uses both). Every
+    // round's correspondences are the same, bit for bit; from the second round on, most
+    // fallback features are answered from the memo.
+    const Vec3f shift(0.23f, 0.17f, 0.11f);
+    PointCloud room = superloc::testing::boxSurface(0.05);
+    for (auto& q : room.points) q += shift;
+    // Poles inside the room: line correspondences as well as planes.
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> U(0, 1);
+    const Vec3d lo = superloc::testing::kRoomMin, hi = superloc::testing::kRoomMax;
+    std::vector<Vec3d> poles;
+    for (const double fx : {0.3, 0.7})
+        for (const double fy : {0.35, 0.65}) poles.push_back(Vec3d(lo.x() + fx * (hi.x() - lo.x()), lo.y() + fy * (hi.y() - lo.y()), 0));
+    for (const Vec3d& pole : poles)
+        for (double z = lo.z(); z < hi.z(); z += 0.01) room.points.push_back(Vec3f(pole.x(), pole.y(), z) + shift);
+    map::MapParams mp;
+    const map::PriorMap m(room, mp, Vec3f(0, 0, 1.5f));
+    std::vector<Vec3d> body;
+    const SE3d T0 = makePoseRPY(0.3, -0.2, 1.2, 0.02, -0.01, 0.4);
+    for (int i = 0; i < 1500; ++i) {
+        Vec3d x(lo.x() + (hi.x() - lo.x()) * U(rng), lo.y() + (hi.y() - lo.y()) * U(rng), lo.z() + (hi.z() - lo.z()) * U(rng));
+        if (i % 4) {  // most on a surface, 0-3 cm off it; the rest 0-5 cm off a pole
+            const int axis = i % 3;
+            x[axis] = (i / 3) % 2 ? hi[axis] - 0.03 * U(rng) : lo[axis] + 0.03 * U(rng);
+        } else {
+            const Vec3d& pole = poles[static_cast<size_t>(i / 4) % poles.size()];
+            x.x() = pole.x() + 0.1 * (U(rng) - 0.5), x.y() = pole.y() + 0.1 * (U(rng) - 0.5);
+        }
+        body.push_back(T0.inverse() * (x + shift.cast<double>()));
+    }
+    for (const bool voxel_planes : {false, true}) {
+        AssociationParams ap;
+        ap.voxel_planes = voxel_planes;
+        std::vector<uint32_t> hint_a, hint_b;
+        AssociationMemo memo;
+        SE3d T = T0;
+        size_t reused = 0;
+        for (int round = 0; round < 6; ++round) {
+            std::vector<Correspondence> a, b;
+            std::vector<uint32_t> of_a, of_b;
+            AssociationStats sa, sb;
+            associate(body, T, m, ap, a, sa, &of_a, &hint_a);
+            associate(body, T, m, ap, b, sb, &of_b, &hint_b, &memo);
+            ASSERT_EQ(a.size(), b.size()) << "round " << round;
+            EXPECT_EQ(of_a, of_b);
+            EXPECT_EQ(hint_a, hint_b);
+            EXPECT_EQ(sa.plane, sb.plane);
+            EXPECT_EQ(sa.line, sb.line);
+            EXPECT_EQ(sa.point, sb.point);
+            EXPECT_EQ(sa.too_far, sb.too_far);
+            EXPECT_EQ(sa.voxel_planes, sb.voxel_planes);
+            for (size_t k = 0; k < a.size(); ++k) {
+                ASSERT_EQ(a[k].type, b[k].type);
+                ASSERT_EQ(a[k].q, b[k].q);
+                ASSERT_EQ(a[k].n, b[k].n);
+                ASSERT_EQ(a[k].p, b[k].p);
+                ASSERT_EQ(a[k].weight, b[k].weight);
+            }
+            if (round == 0) {
+                EXPECT_EQ(memo.reused, 0u);
+                EXPECT_GT(sa.line, 100u) << "the poles give lines";
+            }
+            reused += memo.reused;
+            // The next round's pose: steps shrinking from 2 cm / 0.5 deg, as a solve's do.
+            const double s = 0.02 * std::pow(0.4, round);
+            T = T * makePoseRPY(s * (U(rng) - 0.5), s * (U(rng) - 0.5), s * (U(rng) - 0.5), 25 * s * (U(rng) - 0.5) * M_PI / 180,
+                                25 * s * (U(rng) - 0.5) * M_PI / 180, 25 * s * (U(rng) - 0.5) * M_PI / 180);
+        }
+        EXPECT_GT(reused, voxel_planes ? 300u : 3000u) << "voxel planes " << voxel_planes;
+    }
+    // A memo of another feature set (or max_dist) is not used: the first round searches all.
+    AssociationParams ap;
+    ap.voxel_planes = false;
+    AssociationMemo memo;
+    std::vector<Correspondence> c;
+    AssociationStats st;
+    associate(body, T0, m, ap, c, st, nullptr, nullptr, &memo);
+    std::vector<Vec3d> fewer(body.begin(), body.begin() + 1000);
+    associate(fewer, T0, m, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_EQ(memo.reused, 0u);
+    ap.max_dist = 0.5;
+    associate(fewer, T0, m, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_EQ(memo.reused, 0u);
+    associate(fewer, T0, m, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_GT(memo.reused, 500u);
+}
+
 TEST(PlanesAssociation, ASurfaceBeyondTheVoxelsFaceIsNotHiddenByItsPlane) {
     // A floor (z = 0.1) and a wall standing exactly on a voxel face (x = 0.5): the voxel
     // [0, 0.5)^3 holds the floor alone, thin and valid. A feature 2 cm off the wall, 20 cm above

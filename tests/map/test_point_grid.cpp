@@ -78,6 +78,43 @@ TEST(PointGrid, AHintBoundsTheSearchWithoutChangingTheAnswer) {
     EXPECT_GT(hinted, 4000);
 }
 
+TEST(PointGrid, TheSecondBoundIsBelowEveryOtherPointAndKeepsTheAnswerWithinHalfTheGap) {
+    // `second` bounds from below the distance of every point but the nearest within the radius
+    // (brute force), often tightly; a query moved by less than half the gap between the two has
+    // the same nearest point (what the association's memo relies on).
+    const std::vector<Vec3f> pts = randomPoints(3000, 11);
+    const PointGrid grid(pts, 0.5);
+    std::mt19937 rng(12);
+    std::uniform_real_distribution<float> U(-3.5f, 3.5f), D(-1.0f, 1.0f);
+    int checked = 0, tight = 0, moved = 0;
+    for (int q = 0; q < 2000; ++q) {
+        const Vec3f x(U(rng), U(rng), 0.5f * U(rng));
+        for (const float r : {0.3f, 1.0f}) {
+            float second = -1;
+            const auto [j, d2] = grid.nearest(x, r, PointGrid::kNone, &second);
+            if (j == PointGrid::kNone) continue;
+            float other = r * r;  // the true second nearest within the radius
+            for (uint32_t i = 0; i < pts.size(); ++i)
+                if (i != j) other = std::min(other, (pts[i] - x).squaredNorm());
+            ASSERT_LE(second, other) << x.transpose();
+            ASSERT_GE(second, d2);
+            tight += second >= 0.99f * other;
+            ++checked;
+            // Any move of less than half the gap: the same nearest point.
+            const float gap = std::sqrt(second) - std::sqrt(d2);
+            if (!(gap > 1e-4f)) continue;
+            Vec3f dir(D(rng), D(rng), D(rng));
+            dir.normalize();
+            const Vec3f y = x + (0.499f * gap) * dir;
+            EXPECT_EQ(grid.nearest(y, r).first, j) << x.transpose();
+            ++moved;
+        }
+    }
+    EXPECT_GT(checked, 2000);
+    EXPECT_GT(moved, 1500);
+    EXPECT_GT(tight, checked / 4) << "the bound is often the true second nearest";
+}
+
 TEST(PointGrid, KnnIsTheBruteForceKnnWithinTheRadius) {
     const std::vector<Vec3f> pts = randomPoints(3000, 3);
     const PointGrid grid(pts, 0.5);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace superloc::localization {
 
@@ -186,7 +187,7 @@ bool voxelPlane(const Vec3d& p_body, const Vec3d& x, const map::VoxelStats& v, d
 
 void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                      const AssociationParams& p, std::vector<Correspondence>& out, AssociationStats& stats,
-                     std::vector<uint32_t>* feature_of, std::vector<uint32_t>* hint) {
+                     std::vector<uint32_t>* feature_of, std::vector<uint32_t>* hint, AssociationMemo* memo) {
     // The finest voxel's plane where it is validated (one hash probe), else the nearest map point
     // within max_dist (at most two grid cells: 27 cells, 125 when nothing is within one) and its
     // precomputed geometry: nothing unbounded.
@@ -207,18 +208,39 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     // Each map position is computed once, kAhead queries early, and kept until its query.
     constexpr uint32_t kAhead = 8;
     const bool planes_first = p.voxel_planes && vm.levels() > 0;
+    // The memo (AssociationMemo): a fallback answered from the last search where it cannot have
+    // changed. A new memo (a new feature set or max_dist) starts empty.
+    const bool recall = memo && memo->validFor(pts_body.size(), p.max_dist);
+    if (memo) {
+        memo->reused = 0;
+        if (!recall) {
+            memo->at.resize(pts_body.size());
+            memo->keep2.assign(pts_body.size(), -1.0f);
+            memo->nearest.resize(pts_body.size());
+            memo->max_dist = p.max_dist;
+        }
+    }
+    const auto recalled = [&](uint32_t k, const Vec3f& xk) {
+        return recall && (xk - memo->at[k]).squaredNorm() < memo->keep2[k];
+    };
     Vec3d ahead[kAhead];
     const auto prefetch = [&](uint32_t k) {
         if (k >= pts_body.size()) return;
         ahead[k % kAhead] = R * pts_body[k] + t;
         const Vec3f xk = ahead[k % kAhead].cast<float>();
         if (planes_first) vm.prefetch(0, xk);
-        else grid.prefetch(xk);
+        if (!recalled(k, xk)) grid.prefetch(xk);
     };
+    // Float rounding of the distances compared: the gap must exceed twice the move by this much.
+    constexpr float kMargin = 1e-5f;
     for (uint32_t k = 0; k < kAhead; ++k) prefetch(k);
     for (uint32_t i = 0; i < pts_body.size(); ++i) {
         const Vec3d x = ahead[i % kAhead];
         prefetch(i + kAhead);
+        if (i + kAhead / 2 < pts_body.size()) {  // the cell's points, its slot now in cache
+            const Vec3f xh = ahead[(i + kAhead / 2) % kAhead].cast<float>();
+            if (!recalled(i + kAhead / 2, xh)) grid.prefetchPoints(xh);
+        }
         const Vec3f xf = x.cast<float>();
         const map::VoxelStats* v = p.voxel_planes && vm.levels() > 0 ? vm.find(0, xf) : nullptr;
         int level = 0;
@@ -233,9 +255,28 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
             keep(c, i, out, feature_of);
             continue;
         }
-        const auto [j, d2] = grid.nearest(xf, radius, hint ? (*hint)[i] : map::PointGrid::kNone);
+        if (recalled(i, xf)) {
+            // The same nearest map point, so the same plane or point correspondence.
+            if (pointCorrespondence(pts_body[i], x, memo->nearest[i], 0.0f, map, p, knn, nb, c, stats))
+                keep(c, i, out, feature_of);
+            ++memo->reused;
+            continue;
+        }
+        float second = 0;
+        const auto [j, d2] = grid.nearest(xf, radius, hint ? (*hint)[i] : map::PointGrid::kNone, memo ? &second : nullptr);
         if (hint && j != map::PointGrid::kNone) (*hint)[i] = j;
+        const size_t too_far = stats.too_far;
         if (pointCorrespondence(pts_body[i], x, j, d2, map, p, knn, nb, c, stats)) keep(c, i, out, feature_of);
+        if (!memo) continue;
+        // The same nearest point while q moves less than half the gap to the second nearest's
+        // distance (and so still within the radius), and so the same plane or point answer. Not
+        // a line (its direction is fitted to the points around q itself; c.type is the map
+        // point's shape whenever one was within reach).
+        const bool line = stats.too_far > too_far || c.type == FeatureType::Line;
+        const float gap = j != map::PointGrid::kNone && !line ? std::sqrt(second) - std::sqrt(d2) - kMargin : -1.0f;
+        memo->at[i] = xf;
+        memo->nearest[i] = j;
+        memo->keep2[i] = gap > 0 ? 0.25f * gap * gap : -1.0f;
     }
 }
 
@@ -257,13 +298,14 @@ AssociationParams trackingAssociation(const AssociationConfig& ac, const Localiz
 
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body, const map::PriorMap& map,
                const AssociationParams& p, std::vector<Correspondence>& out,
-               AssociationStats& stats, std::vector<uint32_t>* feature_of, std::vector<uint32_t>* nearest_hint) {
+               AssociationStats& stats, std::vector<uint32_t>* feature_of, std::vector<uint32_t>* nearest_hint,
+               AssociationMemo* memo) {
     out.clear();
     stats = {};
     if (feature_of) feature_of->clear();
     switch (p.kind) {
         case AssociationKind::Planes:
-            associatePlanes(pts_body, T_map_body, map, p, out, stats, feature_of, nearest_hint);
+            associatePlanes(pts_body, T_map_body, map, p, out, stats, feature_of, nearest_hint, memo);
             break;
         case AssociationKind::Voxel: associateVoxels(pts_body, T_map_body, map, p, out, stats, feature_of); break;
         case AssociationKind::Nearest: associateNearest(pts_body, T_map_body, map, p, out, stats, feature_of); break;

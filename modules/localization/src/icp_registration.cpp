@@ -134,6 +134,12 @@ class IcpRegistration::Schedule {
     bool settled_ = false;  ///< the kernel at its floor from the next round on
 };
 
+AssociationMemo& IcpRegistration::freshMemo() {
+    thread_local AssociationMemo memo;
+    memo.clear();
+    return memo;
+}
+
 void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, const AssociationParams& ap,
                                   Scratch& scratch, FrameSolution& sol) const {
     // Each correspondence carries its point's time in the sweep (the sweep's share of the pose's
@@ -145,7 +151,7 @@ void IcpRegistration::associateAt(const RegistrationProblem& p, const SE3d& T, c
     AssociationParams a = ap;
     if (scratch.point_geometry) a.voxel_planes = false;
     associate(p.features->pts_body, T, *p.map, a, sol.corr, sol.stats, timed ? &feature_of : nullptr,
-              &scratch.nearest_hint);
+              &scratch.nearest_hint, &scratch.memo);
     if (timed)
         for (size_t j = 0; j < sol.corr.size(); ++j) sol.corr[j].rel_time = rel_time[feature_of[j]];
     sol.report.ms.associate += msSince(t0);

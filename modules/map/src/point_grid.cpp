@@ -88,11 +88,26 @@ void PointGrid::prefetch(const Vec3f& q) const {
     __builtin_prefetch(&table_[mixVoxelKey(packVoxelIndices(c[0], c[1], c[2])) & mask_]);
 }
 
-template <class Visit, class Bound>
-void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const {
+void PointGrid::prefetchPoints(const Vec3f& q) const {
     Vec3f s;
     int64_t c[3];
     if (table_.empty() || !queryCell(q, inv_, s, c)) return;
+    const Slot* own = find(c[0], c[1], c[2]);
+    if (!own || own->begin == own->end) return;
+    // The cell's first points (its slot should be in cache: prefetch() asked for it earlier);
+    // in cell order only (a cell's points contiguous).
+    if (!index_.empty()) return;
+    const char* b = reinterpret_cast<const char*>(pts_->data() + own->begin);
+    const char* e = reinterpret_cast<const char*>(pts_->data() + own->end);
+    for (const char* a = b; a < e && a < b + 256; a += 64) __builtin_prefetch(a);
+}
+
+template <class Visit, class Bound>
+float PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    Vec3f s;
+    int64_t c[3];
+    if (table_.empty() || !queryCell(q, inv_, s, c)) return 0.0f;
     // Per axis, the squared distance [m^2] from q to the slab of the cells o = -2..2 away along it
     // (0 for its own): lo / hi is q's distance to its cell's lower / upper face.
     const float edge = static_cast<float>(cell_);
@@ -112,7 +127,8 @@ void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound
     // The cells around, nearest box first, each only while its box is nearer than the best point
     // found so far. A ring is skipped whole when even its nearest box (q's nearest face, plus
     // the ring's inner cells) is not nearer: with a good bound (a hint, or a point of q's own
-    // cell) that leaves a few cells at most.
+    // cell) that leaves a few cells at most. `unvisited`: the nearest box of a cell passed over.
+    float unvisited = kInf;
     struct Near {
         float box;
         int8_t o[3];
@@ -120,7 +136,10 @@ void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound
     Near todo[124];
     for (int ring = 1; ring <= rings; ++ring) {
         const float inner = nearest_face + static_cast<float>(ring - 1) * edge;
-        if (inner * inner >= bound()) break;
+        if (inner * inner >= bound()) {
+            unvisited = std::min(unvisited, inner * inner);  // this ring's cells and the next's
+            break;
+        }
         // Per axis, the offsets whose slab is nearer than the bound.
         int from[3], to[3];
         const float b = bound();
@@ -128,6 +147,9 @@ void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound
             from[k] = -ring, to[k] = ring;
             while (from[k] < 0 && axis2[k][from[k] + 2] >= b) ++from[k];
             while (to[k] > 0 && axis2[k][to[k] + 2] >= b) --to[k];
+            // A cell of this ring beyond a slab left out is at least that slab away.
+            if (from[k] > -ring) unvisited = std::min(unvisited, axis2[k][from[k] + 1]);
+            if (to[k] < ring) unvisited = std::min(unvisited, axis2[k][to[k] + 3]);
         }
         int n = 0;
         for (int dx = from[0]; dx <= to[0]; ++dx)
@@ -135,18 +157,25 @@ void PointGrid::forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound
                 for (int dz = from[2]; dz <= to[2]; ++dz) {
                     if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
                     const float box = axis2[0][dx + 2] + axis2[1][dy + 2] + axis2[2][dz + 2];
-                    if (box >= b) continue;
+                    if (box >= b) {
+                        unvisited = std::min(unvisited, box);
+                        continue;
+                    }
                     // Insertion into the list sorted by box (a few cells, usually).
                     int at = n++;
                     for (; at > 0 && todo[at - 1].box > box; --at) todo[at] = todo[at - 1];
                     todo[at] = Near{box, {static_cast<int8_t>(dx), static_cast<int8_t>(dy), static_cast<int8_t>(dz)}};
                 }
         for (int i = 0; i < n; ++i) {
-            if (todo[i].box >= bound()) break;  // sorted: the rest are farther still
+            if (todo[i].box >= bound()) {  // sorted: the rest are farther still
+                unvisited = std::min(unvisited, todo[i].box);
+                break;
+            }
             if (const Slot* cell = find(c[0] + todo[i].o[0], c[1] + todo[i].o[1], c[2] + todo[i].o[2]))
                 visit(cell->begin, cell->end);
         }
     }
+    return unvisited;
 }
 
 namespace {
@@ -158,28 +187,37 @@ int ringsFor(float& r, double cell) {
 }
 }  // namespace
 
-std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist, uint32_t hint) const {
+std::pair<uint32_t, float> PointGrid::nearest(const Vec3f& q, float max_dist, uint32_t hint, float* second) const {
     float r = max_dist;
     const int rings = ringsFor(r, cell_);
-    float best = r * r;
+    float best = r * r, next = r * r;  // the nearest's squared distance, and the next measured one's
     uint32_t best_i = kNone;
     const std::vector<Vec3f>& pts = *pts_;
     if (hint < pts.size()) {
         // Any point bounds the search: a nearer one lies in a cell whose box is nearer still.
         const float d2 = (pts[hint] - q).squaredNorm();
         if (d2 <= best) best = d2, best_i = hint;
+    } else {
+        hint = kNone;
     }
-    forCells(
+    const float unvisited = forCells(
         q, rings,
         [&](uint32_t b, uint32_t e) {
             for (uint32_t j = b; j < e; ++j) {
                 const uint32_t i = index_.empty() ? j : index_[j];
+                if (i == hint) continue;  // measured before the visits
                 const float d2 = (pts[i] - q).squaredNorm();
                 // Equally near points: the lowest index, whichever cell was visited first.
-                if (d2 < best || (d2 == best && i < best_i)) best = d2, best_i = i;
+                if (d2 < best || (d2 == best && i < best_i)) {
+                    if (best_i != kNone) next = std::min(next, best);
+                    best = d2, best_i = i;
+                } else {
+                    next = std::min(next, d2);
+                }
             }
         },
         [&] { return best; });
+    if (second) *second = std::min(next, unvisited);
     if (best_i == kNone) return {kNone, std::numeric_limits<float>::infinity()};
     return {best_i, best};
 }

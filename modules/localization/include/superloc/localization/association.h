@@ -62,16 +62,37 @@ struct AssociationStats {
     size_t total() const { return plane + line + point; }
 };
 
+/// planes: what each feature's last fallback search found, so that a later round need not search
+/// again where the answer cannot have changed. The search also bounds the second nearest map
+/// point's distance (PointGrid::nearest's `second`): a feature that has moved by less than half
+/// the gap between the two since has the same nearest point, so the same correspondence
+/// (a line's, whose direction is fitted to the points around the feature itself, is always
+/// searched again). The answers are exactly those without it. Valid for one map, one feature set
+/// and one max_dist: IcpRegistration keeps one per solve.
+struct AssociationMemo {
+    std::vector<Vec3f> at;          ///< the map position of the feature's last search
+    std::vector<float> keep2;       ///< [m^2] moved less than this far (squared): the same answer; < 0: search
+    std::vector<uint32_t> nearest;  ///< the map point that search found
+    double max_dist = -1;           ///< the association's max_dist when recorded (< 0: nothing recorded)
+    size_t reused = 0;              ///< features answered from the memo in the last call
+    bool validFor(size_t n, double d) const { return max_dist >= 0 && at.size() == n && max_dist == d; }
+    /// Forgets every answer (a new solve), keeping the memory.
+    void clear() { max_dist = -1; }
+};
+
 /// Appends (after clearing) one correspondence per associated feature to `out`; `feature_of`
 /// (if not null) receives the feature index of each correspondence. pts_body are the features
 /// in the body frame, T_map_body the pose to associate at. `nearest_hint` (planes, if not null):
 /// per feature, a map point of this map (or map::PointGrid::kNone), e.g. the one the last round
 /// found; the bounded search starts from its distance, so that only the cells nearer than it are
 /// visited, and it receives the nearest point found. The answers are those without it.
+/// `memo` (planes, if not null): each feature's fallback answered from it where it cannot have
+/// changed, and every fallback search recorded in it (AssociationMemo; the same answers).
 void associate(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
                const map::PriorMap& map, const AssociationParams& p,
                std::vector<Correspondence>& out, AssociationStats& stats,
-               std::vector<uint32_t>* feature_of = nullptr, std::vector<uint32_t>* nearest_hint = nullptr);
+               std::vector<uint32_t>* feature_of = nullptr, std::vector<uint32_t>* nearest_hint = nullptr,
+               AssociationMemo* memo = nullptr);
 
 /// Fraction of features whose nearest-map-point residual (plane/line/point distance of their
 /// correspondence) is below `inlier_dist` at T_map_body, and the RMS of those residuals.

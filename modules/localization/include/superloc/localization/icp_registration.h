@@ -32,9 +32,13 @@ class IcpRegistration final : public Registration {
     /// One solve's working state, kept across its rounds: each correspondence's feature, each
     /// feature's nearest map point of the last round (associate's nearest_hint), and whether the
     /// risk step found the frame weak in translation (planes: no voxel planes from then on).
+    static AssociationMemo& freshMemo();
     struct Scratch {
         std::vector<uint32_t> feature_of, nearest_hint;
         bool point_geometry = false;
+        /// planes: the fallback's answers, for the rounds after the first (the thread's, cleared
+        /// for each solve: its memory is kept from one frame to the next)
+        AssociationMemo& memo = freshMemo();
     };
     /// Round `r` of `rounds` at `s`'s resolution (steps 3-5): associate at sol's state, the risk
     /// and the fusion's prior where `s` says, the joint solve from the window's previous state

@@ -40,11 +40,18 @@ class PointGrid {
     /// given to the constructor and its squared distance; {kNone, inf} when there is none.
     /// `hint` (kNone: none): any point's index, e.g. the last answer for a query nearby; the
     /// search starts from its distance, so only cells nearer than it are visited. The answer is
-    /// the same.
-    std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist, uint32_t hint = kNone) const;
+    /// the same. `second` (if not null) receives a lower bound on the squared distance from q of
+    /// every other point within the radius: the nearest of the other points the search measured,
+    /// the cells it left unvisited, and the radius. q may move by less than half the gap between
+    /// the two distances and keep the same answer. It costs the search nothing.
+    std::pair<uint32_t, float> nearest(const Vec3f& q, float max_dist, uint32_t hint = kNone,
+                                       float* second = nullptr) const;
     /// Asks the CPU to fetch the hash slot of q's cell (a query a few ahead of the current one:
     /// its probe then finds the slot in cache). No effect on any answer.
     void prefetch(const Vec3f& q) const;
+    /// Asks the CPU to fetch the first points of q's cell (its hash slot prefetched earlier, so
+    /// found in cache). No effect on any answer.
+    void prefetchPoints(const Vec3f& q) const;
     /// Up to k points within max_dist (clamped to 2 cell()) of q, nearest first.
     void knn(const Vec3f& q, size_t k, float max_dist, std::vector<uint32_t>& idx, std::vector<float>& sq_dists) const;
     /// Cells holding at least one point.
@@ -59,8 +66,10 @@ class PointGrid {
     const Slot* find(int64_t x, int64_t y, int64_t z) const;
     /// Calls visit(begin, end) for the query's own cell, then for each cell up to `rings` (1 or
     /// 2) cells away whose box is nearer than bound() (squared), which the visits may shrink.
+    /// Returns a lower bound on the squared distance from q to every cell within `rings` it did
+    /// not visit (infinity: none left).
     template <class Visit, class Bound>
-    void forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const;
+    float forCells(const Vec3f& q, int rings, Visit&& visit, Bound&& bound) const;
 
     double cell_ = 0;
     float inv_ = 0;
