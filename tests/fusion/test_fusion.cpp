@@ -323,6 +323,84 @@ TEST(FrameProblem, CondensedScanIsTheScanToRounding) {
             }
 }
 
+TEST(FrameProblem, WindowSolveMatchesCeres) {
+    // solveFrame's own Levenberg-Marquardt on the IMU window (IMU factor, the previous state's
+    // prior, odom_alt's relative prior under each robust loss, the scan) and on the no-IMU window
+    // (the relative prior, the previous pose held; a pose prior) against Ceres' on the same
+    // problem: the same iterations, costs and states to 1e-9, the same marginal. Starts near and
+    // far, 1 to 8 iterations; a corridor whose scan leaves its axis to the priors.
+    const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
+    auto room = boxRoom(T_true, 800, 11);
+    std::vector<Correspondence> corridor;
+    for (const auto& c : room)
+        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) corridor.push_back(c);
+    std::mt19937 rng(4);
+    std::normal_distribution<double> N(0, 0.03);
+    for (auto* corr : {&room, &corridor})
+        for (auto& c : *corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    imu::Preintegration pre(imu::ImuBias{Vec3d(0.02, -0.01, 0.03), Vec3d(0.002, -0.001, 0.003)},
+                            imu::ImuNoise{0.02, 0.002});
+    for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.4, 0.2, 9.7), Vec3d(0.2, -0.3, 0.5), 0.005);
+    FrameState prev0;
+    prev0.setPose(T_true * makePoseRPY(-0.12, -0.03, 0.0, 0.0, 0.0, -0.05));
+    prev0.setVelocity(Vec3d(1.0, 0.3, 0.0));
+    prev0.setBias({Vec3d(0.05, 0.0, -0.02), Vec3d(0.001, 0.002, 0.0)});
+    RelativePosePrior rel;
+    rel.delta = prev0.T_map_imu().inverse() * T_true * makePoseRPY(0.04, 0.01, -0.01, 0.002, 0.001, 0.003);
+    rel.sqrt_info = Vec6d(1 / 0.05, 1 / 0.05, 1 / 0.05, 1 / 0.01, 1 / 0.01, 1 / 0.01).asDiagonal();
+    int cases = 0;
+    for (const auto* corr : {&room, &corridor})
+        for (const char* kernel : {"none", "cauchy", "huber"})
+            for (const bool with_imu : {true, false})
+                for (const SE3d& T0 : {T_true * makePoseRPY(0.05, -0.03, 0.02, 0.005, 0.004, -0.01),
+                                       T_true * makePoseRPY(0.6, -0.4, 0.2, 0.05, 0.06, -0.25)})
+                    for (int iters : {1, 3, 8}) {
+                        FusionParams p;
+                        p.active.prior_kernel = kernel;
+                        p.active.prior_kernel_sigmas = 2.0;  // the prior's 4 cm step is 0.8 sigma: both branches of Huber
+                        p.max_iterations = iters;
+                        ScanFactor scan(*corr, 0.05);
+                        scan.setRobustWeights(T0, RobustKernel::Cauchy, 0.3);
+                        FrameState pa = prev0, pb = prev0, a, b;
+                        for (FrameState* st : {&a, &b}) {
+                            st->setPose(T0);
+                            st->setVelocity(Vec3d(1.05, 0.3, 0.0));
+                            st->setBias(prev0.bias());
+                        }
+                        FrameProblemInputs ia, ib;
+                        ia.prev = &pa, ia.cur = &a;
+                        ib.prev = &pb, ib.cur = &b;
+                        for (FrameProblemInputs* in : {&ia, &ib}) {
+                            in->scan = &scan;
+                            in->prior = rel;
+                            if (with_imu) {
+                                in->setImu(&pre, imu::ImuParams{});
+                                in->marginalize = true;
+                            } else {
+                                in->cur_pose_prior = std::make_pair(T_true, Mat6d(Mat6d::Identity() * 2.0));
+                            }
+                        }
+                        const auto sa = solveFrame(ia, p);
+                        const auto sb = solveFrameWithCeres(ib, p);
+                        SCOPED_TRACE(std::string(kernel) + (with_imu ? " imu" : " no imu") + " iters " + std::to_string(iters));
+                        expectSameSolve(sa, a, sb, b, iters);
+                        EXPECT_LT(translationDistance(pa.T_map_imu(), pb.T_map_imu()), 1e-9);
+                        EXPECT_LT((a.velocity() - b.velocity()).norm(), 1e-9);
+                        EXPECT_LT((pa.velocity() - pb.velocity()).norm(), 1e-9);
+                        ASSERT_EQ(sa.marginal.has_value(), sb.marginal.has_value());
+                        if (sa.marginal) {
+                            const Mat15d Ma = sa.marginal->sqrt_info.transpose() * sa.marginal->sqrt_info;
+                            const Mat15d Mb = sb.marginal->sqrt_info.transpose() * sb.marginal->sqrt_info;
+                            EXPECT_LT((Ma - Mb).norm(), 1e-7 * Mb.norm());
+                        }
+                        if (!with_imu) {
+                            EXPECT_EQ(pa.T_map_imu().matrix(), prev0.T_map_imu().matrix()) << "held";
+                        }
+                        ++cases;
+                    }
+    EXPECT_EQ(cases, 72);
+}
+
 TEST(FrameProblem, ImuFactorAloneReproducesPrediction) {
     // Constant acceleration + rotation: the IMU-only problem must land on the prediction.
     imu::Preintegration pre;

@@ -317,6 +317,213 @@ class CondensedScan : public ceres::CostFunction {
 };
 }  // namespace
 
+namespace {
+/// The window's problem (solveFrame's factors: the IMU factor and the previous state's prior,
+/// odom_alt's relative prior with its robust loss, a prior on the current pose, the scan's
+/// normal equations) solved without building a Ceres problem: Ceres' Levenberg-Marquardt step
+/// for step as solveScanOnly runs it (SPARSE_NORMAL_CHOLESKY's system solved densely: the same
+/// steps to rounding), over the free blocks' tangent: with IMU the previous pose and
+/// speed-bias and the current ones (30), without it the current pose (the previous held, as
+/// solveFrameWithCeres sets it constant). A robust loss enters as Ceres' Corrector applies it
+/// (residual and Jacobian rescaled by sqrt(rho'), with the second-order term where rho'' > 0).
+/// The marginal, when asked, is the Gauss-Newton information at the solution, as marginalize()
+/// evaluates it from a Ceres problem.
+SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& params, bool with_imu) {
+    static const PoseManifold manifold;
+    using MatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 30, 30>;
+    using VecX = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 32, 1>;
+    struct Term {
+        std::unique_ptr<ceres::CostFunction> f;
+        std::vector<int> blocks;  ///< 0 prev pose, 1 prev speed-bias, 2 cur pose, 3 cur speed-bias
+        const ceres::LossFunction* loss = nullptr;
+    };
+    std::vector<Term> terms;
+    std::unique_ptr<ceres::LossFunction> loss;
+    if (with_imu) {
+        for (auto& t : imuWindowTerms(in, params, *in.prev)) terms.push_back({std::move(t.f), t.blocks, nullptr});
+    }
+    if (in.prior) {
+        const double c = params.active.prior_kernel_sigmas;
+        switch (robustKernelFromString(params.active.prior_kernel)) {
+            case RobustKernel::Huber: loss = std::make_unique<ceres::HuberLoss>(c); break;
+            case RobustKernel::Cauchy: loss = std::make_unique<ceres::CauchyLoss>(c); break;
+            case RobustKernel::None: break;
+        }
+        terms.push_back({std::unique_ptr<ceres::CostFunction>(RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info)),
+                         {0, 2}, loss.get()});
+    }
+    if (in.cur_pose_prior)
+        terms.push_back({std::unique_ptr<ceres::CostFunction>(
+                             PosePriorFactor::Create(in.cur_pose_prior->first, in.cur_pose_prior->second)),
+                         {2}, nullptr});
+    const ScanFactor* scan = in.scan && in.scan->num_residuals() > 0 ? in.scan : nullptr;
+
+    // The free blocks, their ambient and tangent sizes and tangent offsets.
+    constexpr int kAmbient[4] = {7, 9, 7, 9}, kTangent[4] = {6, 9, 6, 9};
+    int offset[4] = {-1, -1, -1, -1};
+    int n = 0, na = 0;
+    for (int b = 0; b < 4; ++b)
+        if (with_imu || b == 2) offset[b] = n, n += kTangent[b], na += kAmbient[b];
+    FrameState x[2] = {*in.prev, *in.cur};  // the iterate (prev, cur)
+    const auto blockOf = [](FrameState* s, int b) { return b % 2 == 0 ? s[b / 2].pose : s[b / 2].speed_bias; };
+    const auto ambient = [&](FrameState* s) {
+        VecX v(na);
+        int k = 0;
+        for (int b = 0; b < 4; ++b)
+            if (offset[b] >= 0) v.segment(k, kAmbient[b]) = Eigen::Map<const Eigen::VectorXd>(blockOf(s, b), kAmbient[b]), k += kAmbient[b];
+        return v;
+    };
+    const auto plus = [&](FrameState* s, const VecX& delta, FrameState* out) {
+        out[0] = s[0], out[1] = s[1];
+        for (int b = 0; b < 4; ++b) {
+            if (offset[b] < 0) continue;
+            if (kAmbient[b] == 7)
+                manifold.Plus(blockOf(s, b), delta.data() + offset[b], blockOf(out, b));
+            else
+                for (int k = 0; k < 9; ++k) blockOf(out, b)[k] = blockOf(s, b)[k] + delta[offset[b] + k];
+        }
+    };
+    // The cost at s, and (H, g) over the free tangent when asked; NaN when a factor fails.
+    std::vector<double> r, jac[4];
+    const auto evaluate = [&](FrameState* s, MatX* H, VecX* g) {
+        double cost = 0;
+        if (H) H->setZero(n, n), g->setZero(n);
+        for (const Term& t : terms) {
+            const int m = t.f->num_residuals();
+            const double* params_[4];
+            double* jp[4];
+            for (size_t k = 0; k < t.blocks.size(); ++k) {
+                const int b = t.blocks[k];
+                params_[k] = blockOf(s, b);
+                jp[k] = nullptr;
+                if (H && offset[b] >= 0) {
+                    jac[k].assign(static_cast<size_t>(m * kAmbient[b]), 0.0);
+                    jp[k] = jac[k].data();
+                }
+            }
+            r.assign(static_cast<size_t>(m), 0.0);
+            if (!t.f->Evaluate(params_, r.data(), H ? jp : nullptr)) return std::numeric_limits<double>::quiet_NaN();
+            Eigen::Map<Eigen::VectorXd> rv(r.data(), m);
+            const double sq = rv.squaredNorm();
+            // Ceres' Corrector (residual_block.cc / corrector.cc).
+            double sqrt_rho1 = 1.0, residual_scaling = 1.0, alpha_sq_norm = 0.0;
+            if (t.loss) {
+                double rho[3];
+                t.loss->Evaluate(sq, rho);
+                cost += 0.5 * rho[0];
+                sqrt_rho1 = std::sqrt(rho[1]);
+                residual_scaling = sqrt_rho1;
+                if (sq != 0.0 && rho[2] > 0.0) {
+                    const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * sq * rho[2] / rho[1]);
+                    residual_scaling = sqrt_rho1 / (1.0 - alpha);
+                    alpha_sq_norm = alpha / sq;
+                }
+            } else {
+                cost += 0.5 * sq;
+            }
+            if (!H) continue;
+            // Each free block's tangent Jacobian, corrected, then its share of H and g.
+            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 15, 30> Jt(m, n);
+            Jt.setZero();
+            for (size_t k = 0; k < t.blocks.size(); ++k) {
+                const int b = t.blocks[k];
+                if (offset[b] < 0) continue;
+                using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+                const Eigen::Map<const RowMat> Ja(jac[k].data(), m, kAmbient[b]);
+                if (kAmbient[b] == 7) {
+                    double P[42];
+                    manifold.PlusJacobian(blockOf(s, b), P);
+                    Jt.block(0, offset[b], m, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+                } else {
+                    Jt.block(0, offset[b], m, 9) = Ja;
+                }
+            }
+            if (t.loss) {
+                if (alpha_sq_norm != 0.0) Jt -= alpha_sq_norm * rv * (rv.transpose() * Jt);
+                Jt *= sqrt_rho1;
+            }
+            H->noalias() += Jt.transpose() * Jt;
+            g->noalias() += Jt.transpose() * (residual_scaling * rv);
+        }
+        if (scan) {
+            Mat6d Hs;
+            Vec6d gs;
+            cost += scan->linearize(s[1].pose, H ? &Hs : nullptr, H ? &gs : nullptr);
+            if (H) H->block<6, 6>(offset[2], offset[2]) += Hs, g->segment<6>(offset[2]) += gs;
+        }
+        return cost;
+    };
+
+    SolveSummary out;
+    MatX H;
+    VecX g;
+    double cost = evaluate(x, &H, &g);
+    out.initial_cost = out.final_cost = cost;
+    if (!std::isfinite(cost) || !H.allFinite() || !g.allFinite()) return out;  // Ceres: FAILURE
+    VecX xa = ambient(x);
+    FrameState cand[2];
+    const auto gradientMaxNorm = [&]() {
+        plus(x, -g, cand);
+        return (xa - ambient(cand)).lpNorm<Eigen::Infinity>();
+    };
+    const VecX scale = (VecX::Ones(n).array() + H.diagonal().array().sqrt()).inverse();
+    double radius = 1e4, decrease = 2.0, x_norm = -1.0;  // as solveScanOnly
+    int iterations = 0, invalid = 0;
+    bool successful = true;
+    while (true) {
+        if (iterations >= params.max_iterations) break;
+        if (successful && gradientMaxNorm() <= 1e-10) break;
+        if (radius <= 1e-32) break;
+        const MatX Hs = scale.asDiagonal() * H * scale.asDiagonal();
+        const VecX gs = scale.cwiseProduct(g);
+        MatX A = Hs;
+        A.diagonal() += Hs.diagonal().cwiseMax(1e-6).cwiseMin(1e32) / radius;
+        const Eigen::LLT<MatX> llt(A);
+        const VecX step = llt.info() == Eigen::Success ? VecX(llt.solve(-gs)) : VecX(VecX::Zero(n));
+        const double model_change = -(step.dot(gs) + 0.5 * step.dot(Hs * step));
+        if (llt.info() != Eigen::Success || !(model_change > 0.0)) {
+            if (++invalid >= 5) return out;
+            radius /= decrease;
+            decrease *= 2.0;
+            successful = false;
+            ++iterations;
+            continue;
+        }
+        invalid = 0;
+        plus(x, step.cwiseProduct(scale), cand);
+        double cand_cost = evaluate(cand, nullptr, nullptr);
+        if (!std::isfinite(cand_cost)) cand_cost = std::numeric_limits<double>::max();
+        const VecX ca = ambient(cand);
+        if ((xa - ca).norm() <= 1e-8 * (x_norm + 1e-8)) break;  // parameter tolerance
+        if (std::abs(cost - cand_cost) <= 1e-8 * cost) break;   // function tolerance
+        const double rho = (cost - cand_cost) / model_change;
+        if (rho > 1e-3) {
+            x[0] = cand[0], x[1] = cand[1];
+            xa = ca;
+            x_norm = xa.norm();
+            cost = evaluate(x, &H, &g);
+            radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
+            decrease = 2.0;
+            successful = true;
+        } else {
+            radius /= decrease;
+            decrease *= 2.0;
+            successful = false;
+        }
+        ++iterations;
+    }
+    out.usable = true;
+    out.iterations = iterations;
+    out.final_cost = cost;
+    for (int b = 0; b < 4; ++b)
+        if (offset[b] >= 0) std::copy_n(blockOf(x, b), kAmbient[b], b < 2 ? (b == 0 ? in.prev->pose : in.prev->speed_bias)
+                                                                              : (b == 2 ? in.cur->pose : in.cur->speed_bias));
+    if (with_imu && in.marginalize && H.rows() == 30) out.marginal = marginalizeInformation(Mat30d(H), *in.cur);
+    for (FrameState* st : {in.cur, in.prev}) Eigen::Map<Eigen::Vector4d>(st->pose + 3).normalize();
+    return out;
+}
+}  // namespace
+
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params) {
     const bool with_imu = in.imu != nullptr && in.imu->dt() > 0;
     if (!with_imu && !in.prior && !in.cur_pose_prior && in.scan && in.scan->num_residuals() > 0) {
@@ -325,6 +532,12 @@ SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params
         q.normalize();
         return out;
     }
+    if (!with_imu && !in.prior && !in.cur_pose_prior) return SolveSummary{};  // nothing to solve
+    return solveWindow(in, params, with_imu);
+}
+
+SolveSummary solveFrameWithCeres(const FrameProblemInputs& in, const FusionParams& params) {
+    const bool with_imu = in.imu != nullptr && in.imu->dt() > 0;
     ceres::Problem::Options popt;
     popt.cost_function_ownership = ceres::TAKE_OWNERSHIP;
     popt.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;

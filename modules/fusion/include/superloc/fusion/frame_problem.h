@@ -69,8 +69,13 @@ struct SolveSummary {
 /// The fixed-sigma prior on a state (FusionParams prev_*_sigma) around its values.
 StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params);
 
-/// Builds and solves the problem once (the caller re-associates and calls again).
+/// Builds and solves the problem once (the caller re-associates and calls again): Ceres'
+/// Levenberg-Marquardt run step for step on the problem's normal equations, without building a
+/// Ceres problem (the same steps to rounding as solveFrameWithCeres, FrameProblem.*MatchesCeres).
 SolveSummary solveFrame(const FrameProblemInputs& in, const FusionParams& params);
+/// The same problem built and solved by Ceres (SPARSE_NORMAL_CHOLESKY): the reference the tests
+/// and the microbenchmark compare solveFrame with.
+SolveSummary solveFrameWithCeres(const FrameProblemInputs& in, const FusionParams& params);
 
 /// What the IMU window knows of the current state before its scan is seen: the previous state's
 /// prior (`in.prev_prior`, else the fixed sigmas) carried through the IMU factor to the current
