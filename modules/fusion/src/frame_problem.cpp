@@ -1,5 +1,6 @@
 #include <ceres/ceres.h>
 #include <superloc/fusion/frame_problem.h>
+#include "window_terms.h"
 #include <superloc/fusion/imu_factor.h>
 #include <superloc/fusion/pose_prior_factor.h>
 #include <superloc/fusion/relative_pose_factor.h>
@@ -13,6 +14,10 @@
 #include <vector>
 
 namespace superloc::fusion {
+
+using detail::Mat30d;
+using detail::marginalizeInformation;
+using detail::imuWindowTerms;
 
 StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params) {
     StatePrior p;
@@ -29,12 +34,6 @@ StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params) {
 
 namespace {
 
-/// SolveSummary::marginal: the Gauss-Newton information of [prev pose, prev speed-bias, cur
-/// pose, cur speed-bias] (tangent coordinates: map-frame translation, body rotation increment)
-/// at the solution, the previous state eliminated (Schur complement), expressed in
-/// StatePriorFactor's error coordinates (translation in the body axes of the reference).
-using Mat30d = Eigen::Matrix<double, 30, 30>;
-
 /// The problem's Jacobian over [prev pose, prev speed-bias, cur pose, cur speed-bias] at the
 /// states' values (tangent coordinates), robust losses applied.
 std::optional<ceres::CRSMatrix> windowJacobian(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
@@ -45,27 +44,6 @@ std::optional<ceres::CRSMatrix> windowJacobian(ceres::Problem& problem, FrameSta
     ceres::CRSMatrix J;
     if (!problem.Evaluate(eo, nullptr, nullptr, nullptr, &J) || J.num_cols != 30) return std::nullopt;
     return J;
-}
-
-/// The current state's information M (15 x 15, in the window's tangent coordinates) in
-/// StatePriorFactor's error coordinates (translation in the body axes of the reference), as a
-/// StatePrior at cur.
-std::optional<StatePrior> asStatePrior(Mat15d M, const FrameState& cur) {
-    // Tangent translation is in the map frame, the prior's error in the reference body axes:
-    // e = A d with A = diag(R^T, I, I), so the information is A M A^T.
-    const SE3d T = cur.T_map_imu();
-    Mat15d A = Mat15d::Identity();
-    A.topLeftCorner<3, 3>() = T.linear().transpose();
-    M = A * M * A.transpose();
-    M = 0.5 * (M + M.transpose());
-    const Eigen::SelfAdjointEigenSolver<Mat15d> es(M);
-    if (es.info() != Eigen::Success || !es.eigenvalues().allFinite()) return std::nullopt;
-    StatePrior p;
-    p.T_ref = T;
-    for (int k = 0; k < 9; ++k) p.sb_ref[k] = cur.speed_bias[k];
-    // L^T L = M with L = D^1/2 V^T (eigenvalues rounded up to 0).
-    p.sqrt_info = es.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * es.eigenvectors().transpose();
-    return p;
 }
 
 /// J^T J of a window Jacobian (30 columns) over each row's non-zeros only (a scan row touches the
@@ -88,85 +66,10 @@ Mat30d normalMatrix(const ceres::CRSMatrix& J) {
     return H;
 }
 
-/// The current state's StatePrior of the window's information H, the previous state
-/// eliminated (Schur complement).
-std::optional<StatePrior> marginalizeInformation(const Mat30d& H, const FrameState& cur) {
-    const Mat15d Hpp = H.topLeftCorner<15, 15>(), Hcc = H.bottomRightCorner<15, 15>();
-    const Mat15d Hcp = H.bottomLeftCorner<15, 15>();
-    // Hpp is positive definite: the previous state always has its prior.
-    const Eigen::LDLT<Mat15d> ldlt(Hpp);
-    if (ldlt.info() != Eigen::Success) return std::nullopt;
-    return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
-}
-
 std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev, FrameState& cur) {
     const auto J = windowJacobian(problem, prev, cur);
     if (!J) return std::nullopt;
     return marginalizeInformation(normalMatrix(*J), cur);
-}
-
-/// One factor of the window and the blocks it reads (0 prev pose, 1 prev speed-bias, 2 cur
-/// pose, 3 cur speed-bias).
-struct WindowTerm {
-    std::unique_ptr<ceres::CostFunction> f;
-    std::vector<int> blocks;
-};
-
-/// The factors' Jacobian over the window (30 tangent columns, as windowJacobian's), evaluated
-/// factor by factor without building a Ceres problem (no losses: the window's factors have
-/// none); each pose block's ambient columns times PoseManifold's PlusJacobian, as Ceres does.
-std::optional<Eigen::Matrix<double, Eigen::Dynamic, 30>> directWindowJacobian(const std::vector<WindowTerm>& terms,
-                                                                             FrameState& prev, FrameState& cur) {
-    static const PoseManifold manifold;
-    double* block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
-    const int ambient[4] = {7, 9, 7, 9}, col[4] = {0, 6, 15, 21};
-    int rows = 0;
-    for (const auto& t : terms) rows += t.f->num_residuals();
-    Eigen::Matrix<double, Eigen::Dynamic, 30> J = Eigen::Matrix<double, Eigen::Dynamic, 30>::Zero(rows, 30);
-    int row = 0;
-    std::vector<double> r;
-    std::vector<std::vector<double>> jac;
-    for (const auto& t : terms) {
-        const int n = t.f->num_residuals();
-        std::vector<const double*> params;
-        std::vector<double*> jp;
-        jac.assign(t.blocks.size(), {});
-        for (size_t k = 0; k < t.blocks.size(); ++k) {
-            params.push_back(block[t.blocks[k]]);
-            jac[k].assign(static_cast<size_t>(n * ambient[t.blocks[k]]), 0.0);
-            jp.push_back(jac[k].data());
-        }
-        r.assign(static_cast<size_t>(n), 0.0);
-        if (!t.f->Evaluate(params.data(), r.data(), jp.data())) return std::nullopt;
-        for (size_t k = 0; k < t.blocks.size(); ++k) {
-            const int b = t.blocks[k];
-            using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-            const Eigen::Map<const RowMat> Ja(jac[k].data(), n, ambient[b]);
-            if (ambient[b] == 7) {
-                double P[42];
-                manifold.PlusJacobian(block[b], P);
-                J.block(row, col[b], n, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
-            } else {
-                J.block(row, col[b], n, 9) = Ja;
-            }
-        }
-        row += n;
-    }
-    if (!J.allFinite()) return std::nullopt;
-    return J;
-}
-
-/// The IMU window's factors: the IMU factor and the previous state's prior (in.prev_prior, else
-/// the fixed sigmas), as addImuWindow adds them to a problem.
-std::vector<WindowTerm> imuWindowTerms(const FrameProblemInputs& in, const FusionParams& params, const FrameState& prev) {
-    std::vector<WindowTerm> t;
-    t.push_back({std::unique_ptr<ceres::CostFunction>(
-                     ImuFactor::Create(*in.imu, in.g_map, in.acc_bias_rw, in.gyro_bias_rw)),
-                 {0, 1, 2, 3}});
-    t.push_back({std::unique_ptr<ceres::CostFunction>(
-                     StatePriorFactor::Create(in.prev_prior ? *in.prev_prior : fixedStatePrior(prev, params))),
-                 {0, 1}});
-    return t;
 }
 
 /// The scan-only problem (no IMU factor, no prior: real data without IMU, the start check's
@@ -611,94 +514,6 @@ SolveSummary solveFrameWithCeres(const FrameProblemInputs& in, const FusionParam
         q.normalize();
     }
     return out;
-}
-
-std::optional<Mat15d> imuWindowStateInformation(const FrameProblemInputs& in, const FusionParams& params) {
-    if (!in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
-    // Copies: the problem's blocks are ours, and the caller's states stay as they are.
-    FrameState prev = *in.prev, cur = *in.cur;
-    std::vector<WindowTerm> terms = imuWindowTerms(in, params, prev);
-    if (in.prior)  // odom_alt's relative motion between the two states (PosePosterior)
-        terms.push_back({std::unique_ptr<ceres::CostFunction>(
-                             RelativePoseFactor::Create(in.prior->delta, in.prior->sqrt_info)),
-                         {0, 2}});
-    const auto J = directWindowJacobian(terms, prev, cur);
-    if (!J) return std::nullopt;
-    const auto m = marginalizeInformation(J->transpose() * *J, cur);
-    if (!m) return std::nullopt;
-    return Mat15d(m->sqrt_info.transpose() * m->sqrt_info);
-}
-
-namespace {
-/// The current state's information (StatePrior coordinates) of the estimate that weighed the
-/// window H_rest + E^T B_s E while its noise is H_rest + E^T B_s B_t^+ B_s E: the inverse of the
-/// current-state block of the sandwich H_s^-1 N H_s^-1.
-std::optional<Mat15d> sandwichInformation(const Mat30d& Hs, const Mat30d& N, const FrameState& cur) {
-    // Jacobi-scaled (the window's blocks span ten decades of information).
-    const Eigen::Matrix<double, 30, 1> d = Hs.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
-    const Mat30d Hs_d = d.asDiagonal() * Hs * d.asDiagonal(), N_d = d.asDiagonal() * N * d.asDiagonal();
-    const Eigen::LDLT<Mat30d> ldlt(0.5 * (Hs_d + Hs_d.transpose()));
-    if (ldlt.info() != Eigen::Success) return std::nullopt;
-    const Mat30d X = ldlt.solve(Mat30d::Identity());
-    const Mat30d C = d.asDiagonal() * (X * N_d * X) * d.asDiagonal();
-    const Mat15d Ccc = 0.5 * (C.bottomRightCorner<15, 15>() + C.bottomRightCorner<15, 15>().transpose());
-    const Eigen::LDLT<Mat15d> lc(Ccc);
-    if (lc.info() != Eigen::Success || !(lc.vectorD().minCoeff() > 0)) return std::nullopt;
-    const auto p = asStatePrior(lc.solve(Mat15d::Identity()), cur);
-    if (!p) return std::nullopt;
-    return Mat15d(p->sqrt_info.transpose() * p->sqrt_info);
-}
-}  // namespace
-
-std::optional<WeighedWindowInformation> imuWindowStateInformationWeighed(const FrameProblemInputs& in,
-                                                                         const FusionParams& params,
-                                                                         const Mat6d& worth, const Mat6d& scan) {
-    if (!in.prior || !in.imu || !(in.imu->dt() > 0) || !in.prev || !in.cur) return std::nullopt;
-    FrameState prev = *in.prev, cur = *in.cur;
-    // The window without odom_alt (IMU factor and the previous state's prior), and odom_alt's
-    // error alone (its factor with unit information): its 6 x 30 Jacobian E.
-    std::vector<WindowTerm> terms = imuWindowTerms(in, params, prev);
-    terms.push_back({std::unique_ptr<ceres::CostFunction>(RelativePoseFactor::Create(in.prior->delta, Mat6d::Identity())),
-                     {0, 2}});
-    const auto J = directWindowJacobian(terms, prev, cur);
-    if (!J || J->rows() < 6) return std::nullopt;
-    // The relative factor's 6 rows are the last ones; the others are H_rest's.
-    const Eigen::Matrix<double, 6, 30> E = J->bottomRows<6>();
-    const Eigen::Matrix<double, Eigen::Dynamic, 30> Jr = J->topRows(J->rows() - 6);
-    // The solve weighed odom_alt's error at B_s; it is worth B_t. Its estimate's error is then
-    // H_s^-1 (H_rest + E^T B_s B_t^+ B_s E) H_s^-1 (the sandwich), H_s = H_rest + E^T B_s E.
-    const Mat6d Bs = in.prior->sqrt_info.transpose() * in.prior->sqrt_info;
-    const Eigen::SelfAdjointEigenSolver<Mat6d> et(0.5 * (worth + worth.transpose()));
-    if (et.info() != Eigen::Success) return std::nullopt;
-    const double tiny = 1e-12 * std::max(1.0, et.eigenvalues().cwiseAbs().maxCoeff());
-    Vec6d inv = Vec6d::Zero();
-    for (int k = 0; k < 6; ++k) inv[k] = et.eigenvalues()[k] > tiny ? 1.0 / et.eigenvalues()[k] : 0.0;
-    const Mat6d Bt_pinv = et.eigenvectors() * inv.asDiagonal() * et.eigenvectors().transpose();
-    const Mat30d Hrest = Jr.transpose() * Jr;
-    const Mat30d Hodom = E.transpose() * Bs * E, Nodom = E.transpose() * (Bs * Bt_pinv * Bs) * E;
-    // The scan on the current pose, weighed by the solve as it is worth: its information in body
-    // axes (a right perturbation) is A^T H A in the window's tangent coordinates (translation in
-    // the map frame), A = diag(R^T, I).
-    Mat6d A = Mat6d::Identity();
-    A.topLeftCorner<3, 3>() = cur.T_map_imu().linear().transpose();
-    Mat30d Hscan = Mat30d::Zero();
-    Hscan.block<6, 6>(15, 15) = A.transpose() * scan * A;
-    const auto without = sandwichInformation(Hrest + Hodom, Hrest + Nodom, cur);
-    const auto with = sandwichInformation(Hrest + Hscan + Hodom, Hrest + Hscan + Nodom, cur);
-    if (!without || !with) return std::nullopt;
-    return WeighedWindowInformation{*without, *with};
-}
-
-std::optional<Mat6d> poseInformation(const Mat15d& M) {
-    const Mat6d Hpp = M.topLeftCorner<6, 6>();
-    const Eigen::Matrix<double, 6, 9> Hps = M.topRightCorner<6, 9>();
-    const Eigen::Matrix<double, 9, 9> Hss = M.bottomRightCorner<9, 9>();
-    const Eigen::LDLT<Eigen::Matrix<double, 9, 9>> ldlt(Hss);
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::nullopt;
-    Mat6d I = Hpp - Hps * ldlt.solve(Hps.transpose());
-    I = 0.5 * (I + I.transpose());
-    if (!I.allFinite()) return std::nullopt;
-    return I;
 }
 
 }  // namespace superloc::fusion
