@@ -601,6 +601,46 @@ TEST(FrameProblem, CauchyPriorKernelBoundsAnUnreportedJumpOnTheBlindAxis) {
 // first-order bias correction brings the residual near zero; with the biases left at zero it is
 // large. Then the factor's Jacobians (autodiff through the bias correction and the quaternion
 // maps) against central differences in the tangent spaces, at a state away from the solution.
+TEST(StatePriorFactor, AnalyticJacobiansAreTheAutodiffOnes) {
+    // The solves' factor (analytic Jacobians) against the same residual differentiated with dual
+    // numbers: the same residual, and the same Jacobian in each block's tangent (the pose's ambient
+    // columns times PoseManifold's PlusJacobian), with a full correlated square-root information,
+    // near the reference and far from it (rotations up to ~2.5 rad).
+    std::mt19937 rng(8);
+    std::normal_distribution<double> N(0, 1);
+    PoseManifold m;
+    for (int trial = 0; trial < 8; ++trial) {
+        StatePrior sp;
+        sp.T_ref = makePoseRPY(3 * N(rng), 3 * N(rng), N(rng), 0.3 * N(rng), 0.3 * N(rng), 2 * N(rng));
+        for (int k = 0; k < 9; ++k) sp.sb_ref[k] = 0.1 * N(rng);
+        Mat15d L = Mat15d::Zero();
+        for (int i = 0; i < 15; ++i)
+            for (int j = 0; j <= i; ++j) L(i, j) = i == j ? 10.0 + 5 * std::abs(N(rng)) : N(rng);
+        sp.sqrt_info = L.transpose();
+        const double far = trial < 4 ? 0.05 : 0.8;
+        FrameState s;
+        s.setPose(sp.T_ref * makePoseRPY(far * N(rng), far * N(rng), far * N(rng), far * N(rng), far * N(rng), far * N(rng)));
+        for (int k = 0; k < 9; ++k) s.speed_bias[k] = sp.sb_ref[k] + 0.05 * N(rng);
+        std::unique_ptr<ceres::CostFunction> analytic(StatePriorFactor::Create(sp));
+        std::unique_ptr<ceres::CostFunction> autodiff(StatePriorFactor::CreateAutoDiff(sp));
+        double* blocks[2] = {s.pose, s.speed_bias};
+        Eigen::Matrix<double, 15, 7, Eigen::RowMajor> Pa, Pd;
+        Eigen::Matrix<double, 15, 9, Eigen::RowMajor> Sa, Sd;
+        double* ja[2] = {Pa.data(), Sa.data()};
+        double* jd[2] = {Pd.data(), Sd.data()};
+        Eigen::Matrix<double, 15, 1> ra, rd;
+        ASSERT_TRUE(analytic->Evaluate(blocks, ra.data(), ja));
+        ASSERT_TRUE(autodiff->Evaluate(blocks, rd.data(), jd));
+        EXPECT_LT((ra - rd).norm(), 1e-12 * rd.norm()) << trial;
+        double P[42];
+        m.PlusJacobian(s.pose, P);
+        const Eigen::Matrix<double, 7, 6, Eigen::RowMajor> Pm = Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+        const Eigen::Matrix<double, 15, 6> Ta = Pa * Pm, Td = Pd * Pm;
+        EXPECT_LT((Ta - Td).norm(), 1e-9 * Td.norm()) << trial;
+        EXPECT_LT((Sa - Sd).norm(), 1e-12 * Sd.norm()) << trial;
+    }
+}
+
 TEST(ImuFactor, AnalyticJacobiansAreTheAutodiffOnes) {
     // The solves' factor (analytic Jacobians) against the same residual differentiated with dual
     // numbers: the same residual, and the same Jacobian in each block's tangent (a pose's ambient

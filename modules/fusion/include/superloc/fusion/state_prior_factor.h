@@ -35,7 +35,11 @@ struct StatePriorFactor {
         out = p_.sqrt_info.cast<T>() * e;
         return true;
     }
-    static ceres::CostFunction* Create(const StatePrior& p) {
+    /// The factor the solves use: its Jacobians written out (state_prior_factor.cpp; test
+    /// StatePriorFactor.AnalyticJacobiansAreTheAutodiffOnes).
+    static ceres::CostFunction* Create(const StatePrior& p);
+    /// The same residual differentiated with dual numbers (the test's reference).
+    static ceres::CostFunction* CreateAutoDiff(const StatePrior& p) {
         return new ceres::AutoDiffCostFunction<StatePriorFactor, 15, 7, 9>(new StatePriorFactor(p));
     }
     StatePrior p_;
