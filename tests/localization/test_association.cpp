@@ -439,6 +439,15 @@ TEST(PlanesAssociation, TheMemoAnswersExactlyAsTheSearch) {
     EXPECT_EQ(memo.reused, 0u);
     associate(fewer, T0, m, ap, c, st, nullptr, nullptr, &memo);
     EXPECT_GT(memo.reused, 500u);
+    // Another feature vector of the same size (another solve's), or another map: afresh.
+    const std::vector<Vec3d> other(fewer.rbegin(), fewer.rend());
+    associate(other, T0, m, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_EQ(memo.reused, 0u);
+    const map::PriorMap m2(room, mp, Vec3f(0, 0, 1.5f));
+    associate(other, T0, m2, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_EQ(memo.reused, 0u);
+    associate(other, T0, m2, ap, c, st, nullptr, nullptr, &memo);
+    EXPECT_GT(memo.reused, 500u);
 }
 
 TEST(PlanesAssociation, ASurfaceBeyondTheVoxelsFaceIsNotHiddenByItsPlane) {

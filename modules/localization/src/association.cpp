@@ -210,7 +210,7 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
     const bool planes_first = p.voxel_planes && vm.levels() > 0;
     // The memo (AssociationMemo): a fallback answered from the last search where it cannot have
     // changed. A new memo (a new feature set or max_dist) starts empty.
-    const bool recall = memo && memo->validFor(pts_body.size(), p.max_dist);
+    const bool recall = memo && memo->validFor(&pts_body, pts_body.size(), &map, p.max_dist);
     if (memo) {
         memo->reused = 0;
         if (!recall) {
@@ -218,6 +218,8 @@ void associatePlanes(const std::vector<Vec3d>& pts_body, const SE3d& T_map_body,
             memo->keep2.assign(pts_body.size(), -1.0f);
             memo->nearest.resize(pts_body.size());
             memo->max_dist = p.max_dist;
+            memo->features = &pts_body;
+            memo->map = &map;
         }
     }
     const auto recalled = [&](uint32_t k, const Vec3f& xk) {

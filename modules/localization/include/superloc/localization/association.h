@@ -67,15 +67,20 @@ struct AssociationStats {
 /// point's distance (PointGrid::nearest's `second`): a feature that has moved by less than half
 /// the gap between the two since has the same nearest point, so the same correspondence
 /// (a line's, whose direction is fitted to the points around the feature itself, is always
-/// searched again). The answers are exactly those without it. Valid for one map, one feature set
-/// and one max_dist: IcpRegistration keeps one per solve.
+/// searched again). The answers are exactly those without it. Valid for one map, one feature
+/// vector (its address and size) and one max_dist; anything else starts it afresh.
+/// IcpRegistration keeps one per solve.
 struct AssociationMemo {
     std::vector<Vec3f> at;          ///< the map position of the feature's last search
     std::vector<float> keep2;       ///< [m^2] moved less than this far (squared): the same answer; < 0: search
     std::vector<uint32_t> nearest;  ///< the map point that search found
     double max_dist = -1;           ///< the association's max_dist when recorded (< 0: nothing recorded)
+    const void* features = nullptr;  ///< the feature vector and the map it was recorded for
+    const void* map = nullptr;
     size_t reused = 0;              ///< features answered from the memo in the last call
-    bool validFor(size_t n, double d) const { return max_dist >= 0 && at.size() == n && max_dist == d; }
+    bool validFor(const void* f, size_t n, const void* m, double d) const {
+        return max_dist >= 0 && features == f && map == m && at.size() == n && max_dist == d;
+    }
     /// Forgets every answer (a new solve), keeping the memory.
     void clear() { max_dist = -1; }
 };
