@@ -8,6 +8,7 @@
 #include <superloc/fusion/scan_factor.h>
 
 #include <Eigen/Eigenvalues>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -18,6 +19,7 @@ namespace superloc::fusion {
 using detail::Mat30d;
 using detail::marginalizeInformation;
 using detail::imuWindowTerms;
+using detail::WindowTerm;
 
 StatePrior fixedStatePrior(const FrameState& s, const FusionParams& params) {
     StatePrior p;
@@ -83,37 +85,41 @@ std::optional<StatePrior> marginalize(ceres::Problem& problem, FrameState& prev,
 /// (ScanFactor::linearize), so no N x 7 Jacobian is stored: about 2x faster per solve at ~2000
 /// correspondences (KITTI: 0.31 -> 0.14 ms), the same solution to rounding (test
 /// FrameProblem.ScanOnlyMatchesCeres).
-SolveSummary solveScanOnly(const ScanFactor& scan, double* pose, int max_iterations) {
-    using Vec7d = Eigen::Matrix<double, 7, 1>;
-    static const PoseManifold manifold;
+/// Ceres' Levenberg-Marquardt step for step (the options as solveScanOnly's comment lists) on a
+/// problem given by `linearize(x, H, g)` (its cost; H = J^T J and g = J^T r in the tangent when
+/// not null), `plus(x, delta, out)` (the manifold's) and `ambient(x)` (the parameters as Ceres
+/// stores them: the tolerances are measured on those). Mat / Vec: the tangent's matrix and
+/// vector types (fixed-size for the 6-D pose). x ends at the solution.
+template <class Mat, class Vec, class State, class Linearize, class Plus, class Ambient>
+SolveSummary levenbergMarquardt(State& x, int max_iterations, Linearize&& linearize, Plus&& plus, Ambient&& ambient) {
     SolveSummary out;
-    Vec7d x = Eigen::Map<const Vec7d>(pose);
-    Mat6d H;
-    Vec6d g;
-    double cost = scan.linearize(x.data(), &H, &g);
+    Mat H;
+    Vec g;
+    double cost = linearize(x, &H, &g);
     out.initial_cost = out.final_cost = cost;
     if (!std::isfinite(cost) || !H.allFinite() || !g.allFinite()) return out;  // Ceres: FAILURE
-    const auto gradientMaxNorm = [&](const Vec6d& grad) {
-        const Vec6d neg = -grad;
-        Vec7d y;
-        manifold.Plus(x.data(), neg.data(), y.data());
-        return (x - y).lpNorm<Eigen::Infinity>();
+    const Eigen::Index n = g.size();
+    auto xa = ambient(x);
+    State cand = x;
+    const auto gradientMaxNorm = [&] {
+        plus(x, Vec(-g), cand);
+        return (xa - ambient(cand)).template lpNorm<Eigen::Infinity>();
     };
-    const Vec6d scale = (Vec6d::Ones().array() + H.diagonal().array().sqrt()).inverse();
+    const Vec scale = (Vec::Ones(n).array() + H.diagonal().array().sqrt()).inverse();
     double radius = 1e4, decrease = 2.0, x_norm = -1.0;  // Ceres leaves x_norm unset until a step
     int iterations = 0, invalid = 0;  // completed iterations (Ceres' summary.iterations - 1)
     bool successful = true;  // iteration 0
     while (true) {
         // FinalizeIterationAndCheckIfMinimizerCanContinue.
         if (iterations >= max_iterations) break;
-        if (successful && gradientMaxNorm(g) <= 1e-10) break;
+        if (successful && gradientMaxNorm() <= 1e-10) break;
         if (radius <= 1e-32) break;
-        const Mat6d Hs = scale.asDiagonal() * H * scale.asDiagonal();
-        const Vec6d gs = scale.cwiseProduct(g);
-        Mat6d A = Hs;
+        const Mat Hs = scale.asDiagonal() * H * scale.asDiagonal();
+        const Vec gs = scale.cwiseProduct(g);
+        Mat A = Hs;
         A.diagonal() += Hs.diagonal().cwiseMax(1e-6).cwiseMin(1e32) / radius;
-        const Eigen::LLT<Mat6d> llt(A);
-        const Vec6d step = llt.info() == Eigen::Success ? Vec6d(llt.solve(-gs)) : Vec6d::Zero();
+        const Eigen::LLT<Mat> llt(A);
+        const Vec step = llt.info() == Eigen::Success ? Vec(llt.solve(-gs)) : Vec(Vec::Zero(n));
         const double model_change = -(step.dot(gs) + 0.5 * step.dot(Hs * step));
         if (llt.info() != Eigen::Success || !(model_change > 0.0)) {
             // Invalid step: shrink the region and solve again; five in a row is a failure.
@@ -125,18 +131,18 @@ SolveSummary solveScanOnly(const ScanFactor& scan, double* pose, int max_iterati
             continue;
         }
         invalid = 0;
-        const Vec6d delta = step.cwiseProduct(scale);
-        Vec7d cand;
-        manifold.Plus(x.data(), delta.data(), cand.data());
-        double cand_cost = scan.linearize(cand.data(), nullptr, nullptr);
+        plus(x, Vec(step.cwiseProduct(scale)), cand);
+        double cand_cost = linearize(cand, nullptr, nullptr);
         if (!std::isfinite(cand_cost)) cand_cost = std::numeric_limits<double>::max();
-        if ((x - cand).norm() <= 1e-8 * (x_norm + 1e-8)) break;     // parameter tolerance
-        if (std::abs(cost - cand_cost) <= 1e-8 * cost) break;     // function tolerance
+        const auto ca = ambient(cand);
+        if ((xa - ca).norm() <= 1e-8 * (x_norm + 1e-8)) break;  // parameter tolerance
+        if (std::abs(cost - cand_cost) <= 1e-8 * cost) break;   // function tolerance
         const double rho = (cost - cand_cost) / model_change;
         if (rho > 1e-3) {
             x = cand;
-            x_norm = x.norm();
-            cost = scan.linearize(x.data(), &H, &g);
+            xa = ca;
+            x_norm = xa.norm();
+            cost = linearize(x, &H, &g);
             radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
             decrease = 2.0;
             successful = true;
@@ -147,11 +153,21 @@ SolveSummary solveScanOnly(const ScanFactor& scan, double* pose, int max_iterati
         }
         ++iterations;
     }
-    Eigen::Map<Vec7d> result(pose);
-    result = x;
     out.usable = true;
     out.iterations = iterations;
     out.final_cost = cost;
+    return out;
+}
+
+SolveSummary solveScanOnly(const ScanFactor& scan, double* pose, int max_iterations) {
+    using Vec7d = Eigen::Matrix<double, 7, 1>;
+    static const PoseManifold manifold;
+    Vec7d x = Eigen::Map<const Vec7d>(pose);
+    const SolveSummary out = levenbergMarquardt<Mat6d, Vec6d>(
+        x, max_iterations, [&](const Vec7d& s, Mat6d* H, Vec6d* g) { return scan.linearize(s.data(), H, g); },
+        [&](const Vec7d& s, const Vec6d& d, Vec7d& o) { manifold.Plus(s.data(), d.data(), o.data()); },
+        [](const Vec7d& s) -> const Vec7d& { return s; });
+    if (out.usable) std::copy_n(x.data(), 7, pose);
     return out;
 }
 
@@ -235,16 +251,9 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
     static const PoseManifold manifold;
     using MatX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 30, 30>;
     using VecX = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 32, 1>;
-    struct Term {
-        std::unique_ptr<ceres::CostFunction> f;
-        std::vector<int> blocks;  ///< 0 prev pose, 1 prev speed-bias, 2 cur pose, 3 cur speed-bias
-        const ceres::LossFunction* loss = nullptr;
-    };
-    std::vector<Term> terms;
+    std::vector<WindowTerm> terms;
+    if (with_imu) terms = imuWindowTerms(in, params, *in.prev);
     std::unique_ptr<ceres::LossFunction> loss;
-    if (with_imu) {
-        for (auto& t : imuWindowTerms(in, params, *in.prev)) terms.push_back({std::move(t.f), t.blocks, nullptr});
-    }
     if (in.prior) {
         const double c = params.active.prior_kernel_sigmas;
         switch (robustKernelFromString(params.active.prior_kernel)) {
@@ -258,56 +267,53 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
     if (in.cur_pose_prior)
         terms.push_back({std::unique_ptr<ceres::CostFunction>(
                              PosePriorFactor::Create(in.cur_pose_prior->first, in.cur_pose_prior->second)),
-                         {2}, nullptr});
+                         {2}});
     const ScanFactor* scan = in.scan && in.scan->num_residuals() > 0 ? in.scan : nullptr;
 
-    // The free blocks, their ambient and tangent sizes and tangent offsets.
+    // The free blocks' tangent offsets (-1: held).
     constexpr int kAmbient[4] = {7, 9, 7, 9}, kTangent[4] = {6, 9, 6, 9};
     int offset[4] = {-1, -1, -1, -1};
     int n = 0, na = 0;
     for (int b = 0; b < 4; ++b)
         if (with_imu || b == 2) offset[b] = n, n += kTangent[b], na += kAmbient[b];
-    FrameState x[2] = {*in.prev, *in.cur};  // the iterate (prev, cur)
-    const auto blockOf = [](FrameState* s, int b) { return b % 2 == 0 ? s[b / 2].pose : s[b / 2].speed_bias; };
-    const auto ambient = [&](FrameState* s) {
+    using Window = std::array<FrameState, 2>;  // prev, cur
+    const auto blocks = [](Window& w, double* block[4]) {
+        block[0] = w[0].pose, block[1] = w[0].speed_bias, block[2] = w[1].pose, block[3] = w[1].speed_bias;
+    };
+    const auto ambient = [&](const Window& w) {
+        double* block[4];
+        blocks(const_cast<Window&>(w), block);
         VecX v(na);
         int k = 0;
         for (int b = 0; b < 4; ++b)
-            if (offset[b] >= 0) v.segment(k, kAmbient[b]) = Eigen::Map<const Eigen::VectorXd>(blockOf(s, b), kAmbient[b]), k += kAmbient[b];
+            if (offset[b] >= 0) v.segment(k, kAmbient[b]) = Eigen::Map<const Eigen::VectorXd>(block[b], kAmbient[b]), k += kAmbient[b];
         return v;
     };
-    const auto plus = [&](FrameState* s, const VecX& delta, FrameState* out) {
-        out[0] = s[0], out[1] = s[1];
+    const auto plus = [&](const Window& w, const VecX& delta, Window& out) {
+        out = w;
+        double *from[4], *to[4];
+        blocks(const_cast<Window&>(w), from);
+        blocks(out, to);
         for (int b = 0; b < 4; ++b) {
             if (offset[b] < 0) continue;
             if (kAmbient[b] == 7)
-                manifold.Plus(blockOf(s, b), delta.data() + offset[b], blockOf(out, b));
+                manifold.Plus(from[b], delta.data() + offset[b], to[b]);
             else
-                for (int k = 0; k < 9; ++k) blockOf(out, b)[k] = blockOf(s, b)[k] + delta[offset[b] + k];
+                for (int k = 0; k < 9; ++k) to[b][k] = from[b][k] + delta[offset[b] + k];
         }
     };
-    // The cost at s, and (H, g) over the free tangent when asked; NaN when a factor fails.
-    std::vector<double> r, jac[4];
-    const auto evaluate = [&](FrameState* s, MatX* H, VecX* g) {
+    // The cost at w, and (H, g) over the free tangent when asked; NaN when a factor fails.
+    detail::TermResidual r;
+    detail::TermJacobian Jt;
+    const auto linearize = [&](const Window& w_in, MatX* H, VecX* g) {
+        Window& w = const_cast<Window&>(w_in);  // the factors read the blocks only
+        double* block[4];
+        blocks(w, block);
         double cost = 0;
         if (H) H->setZero(n, n), g->setZero(n);
-        for (const Term& t : terms) {
-            const int m = t.f->num_residuals();
-            const double* params_[4];
-            double* jp[4];
-            for (size_t k = 0; k < t.blocks.size(); ++k) {
-                const int b = t.blocks[k];
-                params_[k] = blockOf(s, b);
-                jp[k] = nullptr;
-                if (H && offset[b] >= 0) {
-                    jac[k].assign(static_cast<size_t>(m * kAmbient[b]), 0.0);
-                    jp[k] = jac[k].data();
-                }
-            }
-            r.assign(static_cast<size_t>(m), 0.0);
-            if (!t.f->Evaluate(params_, r.data(), H ? jp : nullptr)) return std::numeric_limits<double>::quiet_NaN();
-            Eigen::Map<Eigen::VectorXd> rv(r.data(), m);
-            const double sq = rv.squaredNorm();
+        for (const WindowTerm& t : terms) {
+            if (!detail::evaluateTerm(t, block, offset, n, r, H ? &Jt : nullptr)) return std::numeric_limits<double>::quiet_NaN();
+            const double sq = r.squaredNorm();
             // Ceres' Corrector (residual_block.cc / corrector.cc).
             double sqrt_rho1 = 1.0, residual_scaling = 1.0, alpha_sq_norm = 0.0;
             if (t.loss) {
@@ -325,103 +331,33 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
                 cost += 0.5 * sq;
             }
             if (!H) continue;
-            // Each free block's tangent Jacobian, corrected, then its share of H and g.
-            Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 15, 30> Jt(m, n);
-            Jt.setZero();
-            for (size_t k = 0; k < t.blocks.size(); ++k) {
-                const int b = t.blocks[k];
-                if (offset[b] < 0) continue;
-                using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-                const Eigen::Map<const RowMat> Ja(jac[k].data(), m, kAmbient[b]);
-                if (kAmbient[b] == 7) {
-                    double P[42];
-                    manifold.PlusJacobian(blockOf(s, b), P);
-                    Jt.block(0, offset[b], m, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
-                } else {
-                    Jt.block(0, offset[b], m, 9) = Ja;
-                }
-            }
             if (t.loss) {
-                if (alpha_sq_norm != 0.0) Jt -= alpha_sq_norm * rv * (rv.transpose() * Jt);
+                if (alpha_sq_norm != 0.0) Jt -= alpha_sq_norm * r * (r.transpose() * Jt);
                 Jt *= sqrt_rho1;
             }
             H->noalias() += Jt.transpose() * Jt;
-            g->noalias() += Jt.transpose() * (residual_scaling * rv);
+            g->noalias() += Jt.transpose() * (residual_scaling * r);
         }
         if (scan) {
             Mat6d Hs;
             Vec6d gs;
-            cost += scan->linearize(s[1].pose, H ? &Hs : nullptr, H ? &gs : nullptr);
+            cost += scan->linearize(w[1].pose, H ? &Hs : nullptr, H ? &gs : nullptr);
             if (H) H->block<6, 6>(offset[2], offset[2]) += Hs, g->segment<6>(offset[2]) += gs;
         }
         return cost;
     };
 
-    SolveSummary out;
-    MatX H;
-    VecX g;
-    double cost = evaluate(x, &H, &g);
-    out.initial_cost = out.final_cost = cost;
-    if (!std::isfinite(cost) || !H.allFinite() || !g.allFinite()) return out;  // Ceres: FAILURE
-    VecX xa = ambient(x);
-    FrameState cand[2];
-    const auto gradientMaxNorm = [&]() {
-        plus(x, -g, cand);
-        return (xa - ambient(cand)).lpNorm<Eigen::Infinity>();
+    Window x{*in.prev, *in.cur};
+    MatX H_final;
+    const auto linearizeKeeping = [&](const Window& w, MatX* H, VecX* g) {
+        const double c = linearize(w, H, g);
+        if (H) H_final = *H;  // the accepted state's, for the marginal
+        return c;
     };
-    const VecX scale = (VecX::Ones(n).array() + H.diagonal().array().sqrt()).inverse();
-    double radius = 1e4, decrease = 2.0, x_norm = -1.0;  // as solveScanOnly
-    int iterations = 0, invalid = 0;
-    bool successful = true;
-    while (true) {
-        if (iterations >= params.max_iterations) break;
-        if (successful && gradientMaxNorm() <= 1e-10) break;
-        if (radius <= 1e-32) break;
-        const MatX Hs = scale.asDiagonal() * H * scale.asDiagonal();
-        const VecX gs = scale.cwiseProduct(g);
-        MatX A = Hs;
-        A.diagonal() += Hs.diagonal().cwiseMax(1e-6).cwiseMin(1e32) / radius;
-        const Eigen::LLT<MatX> llt(A);
-        const VecX step = llt.info() == Eigen::Success ? VecX(llt.solve(-gs)) : VecX(VecX::Zero(n));
-        const double model_change = -(step.dot(gs) + 0.5 * step.dot(Hs * step));
-        if (llt.info() != Eigen::Success || !(model_change > 0.0)) {
-            if (++invalid >= 5) return out;
-            radius /= decrease;
-            decrease *= 2.0;
-            successful = false;
-            ++iterations;
-            continue;
-        }
-        invalid = 0;
-        plus(x, step.cwiseProduct(scale), cand);
-        double cand_cost = evaluate(cand, nullptr, nullptr);
-        if (!std::isfinite(cand_cost)) cand_cost = std::numeric_limits<double>::max();
-        const VecX ca = ambient(cand);
-        if ((xa - ca).norm() <= 1e-8 * (x_norm + 1e-8)) break;  // parameter tolerance
-        if (std::abs(cost - cand_cost) <= 1e-8 * cost) break;   // function tolerance
-        const double rho = (cost - cand_cost) / model_change;
-        if (rho > 1e-3) {
-            x[0] = cand[0], x[1] = cand[1];
-            xa = ca;
-            x_norm = xa.norm();
-            cost = evaluate(x, &H, &g);
-            radius = std::min(1e16, radius / std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3)));
-            decrease = 2.0;
-            successful = true;
-        } else {
-            radius /= decrease;
-            decrease *= 2.0;
-            successful = false;
-        }
-        ++iterations;
-    }
-    out.usable = true;
-    out.iterations = iterations;
-    out.final_cost = cost;
-    for (int b = 0; b < 4; ++b)
-        if (offset[b] >= 0) std::copy_n(blockOf(x, b), kAmbient[b], b < 2 ? (b == 0 ? in.prev->pose : in.prev->speed_bias)
-                                                                              : (b == 2 ? in.cur->pose : in.cur->speed_bias));
-    if (with_imu && in.marginalize && H.rows() == 30) out.marginal = marginalizeInformation(Mat30d(H), *in.cur);
+    SolveSummary out = levenbergMarquardt<MatX, VecX>(x, params.max_iterations, linearizeKeeping, plus, ambient);
+    if (!out.usable) return out;
+    *in.prev = x[0], *in.cur = x[1];
+    if (with_imu && in.marginalize && H_final.rows() == 30) out.marginal = marginalizeInformation(Mat30d(H_final), *in.cur);
     for (FrameState* st : {in.cur, in.prev}) Eigen::Map<Eigen::Vector4d>(st->pose + 3).normalize();
     return out;
 }

@@ -36,42 +36,54 @@ std::optional<StatePrior> marginalizeInformation(const Mat30d& H, const FrameSta
     return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
 }
 
+bool evaluateTerm(const WindowTerm& t, double* const block[4], const int col[4], int cols, TermResidual& r,
+                  TermJacobian* J) {
+    static const PoseManifold manifold;
+    constexpr int kAmbient[4] = {7, 9, 7, 9};
+    const int m = t.f->num_residuals();
+    if (m > kMaxTermResiduals || t.blocks.size() > 4) return false;
+    const double* params[4];
+    double* jp[4];
+    double jac[4][kMaxTermResiduals * 9];
+    for (size_t k = 0; k < t.blocks.size(); ++k) {
+        const int b = t.blocks[k];
+        params[k] = block[b];
+        jp[k] = J && col[b] >= 0 ? jac[k] : nullptr;
+    }
+    r.resize(m);
+    if (!t.f->Evaluate(params, r.data(), J ? jp : nullptr)) return false;
+    if (!J) return true;
+    J->setZero(m, cols);
+    for (size_t k = 0; k < t.blocks.size(); ++k) {
+        const int b = t.blocks[k];
+        if (col[b] < 0) continue;
+        using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+        const Eigen::Map<const RowMat> Ja(jac[k], m, kAmbient[b]);
+        if (kAmbient[b] == 7) {
+            double P[42];
+            manifold.PlusJacobian(block[b], P);
+            J->block(0, col[b], m, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
+        } else {
+            J->block(0, col[b], m, 9) = Ja;
+        }
+    }
+    return true;
+}
+
 std::optional<Eigen::Matrix<double, Eigen::Dynamic, 30>> directWindowJacobian(const std::vector<WindowTerm>& terms,
                                                                              FrameState& prev, FrameState& cur) {
-    static const PoseManifold manifold;
-    double* block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
-    const int ambient[4] = {7, 9, 7, 9}, col[4] = {0, 6, 15, 21};
+    double* const block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
+    const int col[4] = {0, 6, 15, 21};
     int rows = 0;
     for (const auto& t : terms) rows += t.f->num_residuals();
-    Eigen::Matrix<double, Eigen::Dynamic, 30> J = Eigen::Matrix<double, Eigen::Dynamic, 30>::Zero(rows, 30);
+    Eigen::Matrix<double, Eigen::Dynamic, 30> J(rows, 30);
     int row = 0;
-    std::vector<double> r;
-    std::vector<std::vector<double>> jac;
+    TermResidual r;
+    TermJacobian Jt;
     for (const auto& t : terms) {
-        const int n = t.f->num_residuals();
-        std::vector<const double*> params;
-        std::vector<double*> jp;
-        jac.assign(t.blocks.size(), {});
-        for (size_t k = 0; k < t.blocks.size(); ++k) {
-            params.push_back(block[t.blocks[k]]);
-            jac[k].assign(static_cast<size_t>(n * ambient[t.blocks[k]]), 0.0);
-            jp.push_back(jac[k].data());
-        }
-        r.assign(static_cast<size_t>(n), 0.0);
-        if (!t.f->Evaluate(params.data(), r.data(), jp.data())) return std::nullopt;
-        for (size_t k = 0; k < t.blocks.size(); ++k) {
-            const int b = t.blocks[k];
-            using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-            const Eigen::Map<const RowMat> Ja(jac[k].data(), n, ambient[b]);
-            if (ambient[b] == 7) {
-                double P[42];
-                manifold.PlusJacobian(block[b], P);
-                J.block(row, col[b], n, 6) = Ja * Eigen::Map<const Eigen::Matrix<double, 7, 6, Eigen::RowMajor>>(P);
-            } else {
-                J.block(row, col[b], n, 9) = Ja;
-            }
-        }
-        row += n;
+        if (!evaluateTerm(t, block, col, 30, r, &Jt)) return std::nullopt;
+        J.middleRows(row, Jt.rows()) = Jt;
+        row += static_cast<int>(Jt.rows());
     }
     if (!J.allFinite()) return std::nullopt;
     return J;

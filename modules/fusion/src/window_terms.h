@@ -32,7 +32,20 @@ std::optional<StatePrior> marginalizeInformation(const Mat30d& H, const FrameSta
 struct WindowTerm {
     std::unique_ptr<ceres::CostFunction> f;
     std::vector<int> blocks;
+    const ceres::LossFunction* loss = nullptr;  ///< not owned; the solve applies it, the information does not
 };
+
+/// A term's residual (at most kMaxTermResiduals) and Jacobian in the window's tangent columns.
+constexpr int kMaxTermResiduals = 15;
+using TermResidual = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxTermResiduals, 1>;
+using TermJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxTermResiduals, 30>;
+
+/// Term t's residual r at the blocks (0 prev pose, 1 prev speed-bias, 2 cur pose, 3 cur
+/// speed-bias) and, when J is not null, its Jacobian over `cols` tangent columns: block b's at
+/// col[b] (col[b] < 0: the block is held, no columns), a pose's ambient columns times
+/// PoseManifold's PlusJacobian, as Ceres does. No loss applied. False when the factor fails.
+bool evaluateTerm(const WindowTerm& t, double* const block[4], const int col[4], int cols, TermResidual& r,
+                  TermJacobian* J);
 
 /// The factors' Jacobian over the window (30 tangent columns, as windowJacobian's), evaluated
 /// factor by factor without building a Ceres problem (no losses: the window's factors have
