@@ -170,6 +170,19 @@ SolveSummary solveWithCeres(ScanFactor& scan, FrameState& cur, int max_iteration
     Eigen::Map<Eigen::Vector4d>(cur.pose + 3).normalize();
     return out;
 }
+/// A box room's correspondences seen from T_true (800, seed 11) and the corridor inside it (its
+/// planes whose normal is within 60 deg of the y-z plane: x unheld), each feature 3 cm noisy.
+std::pair<std::vector<Correspondence>, std::vector<Correspondence>> noisyRoomAndCorridor(const SE3d& T_true) {
+    auto room = boxRoom(T_true, 800, 11);
+    std::vector<Correspondence> corridor;
+    for (const auto& c : room)
+        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) corridor.push_back(c);
+    std::mt19937 rng(4);
+    std::normal_distribution<double> N(0, 0.03);
+    for (auto* corr : {&room, &corridor})
+        for (auto& c : *corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    return {std::move(room), std::move(corridor)};
+}
 /// solveFrame's solve (sa, ending at a) is Ceres' on the full block (sb, ending at b): usable,
 /// the same iterations, costs and pose to 1e-9.
 void expectSameSolve(const SolveSummary& sa, const FrameState& a, const SolveSummary& sb, const FrameState& b,
@@ -283,14 +296,7 @@ TEST(FrameProblem, CondensedScanIsTheScanToRounding) {
     // the same steps as Ceres on the N x 7 block, with odom_alt's prior beside it. A box room,
     // and a corridor whose scan leaves its axis unheld (a singular H: the prior holds x).
     const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
-    auto room = boxRoom(T_true, 800, 11);
-    std::vector<Correspondence> corridor;
-    for (const auto& c : room)
-        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) corridor.push_back(c);
-    std::mt19937 rng(4);
-    std::normal_distribution<double> N(0, 0.03);
-    for (auto* corr : {&room, &corridor})
-        for (auto& c : *corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    auto [room, corridor] = noisyRoomAndCorridor(T_true);
     FrameState prev;
     prev.setPose(makePoseRPY(0.2, -0.4, 0.3, 0.01, 0.0, 0.35));
     RelativePosePrior prior;
@@ -330,14 +336,7 @@ TEST(FrameProblem, WindowSolveMatchesCeres) {
     // problem: the same iterations, costs and states to 1e-9, the same marginal. Starts near and
     // far, 1 to 8 iterations; a corridor whose scan leaves its axis to the priors.
     const SE3d T_true = makePoseRPY(1.0, -0.5, 0.3, 0.02, -0.01, 0.4);
-    auto room = boxRoom(T_true, 800, 11);
-    std::vector<Correspondence> corridor;
-    for (const auto& c : room)
-        if (c.type == FeatureType::Plane && std::abs(c.n.x()) < 0.5) corridor.push_back(c);
-    std::mt19937 rng(4);
-    std::normal_distribution<double> N(0, 0.03);
-    for (auto* corr : {&room, &corridor})
-        for (auto& c : *corr) c.p += Vec3d(N(rng), N(rng), N(rng));
+    auto [room, corridor] = noisyRoomAndCorridor(T_true);
     imu::Preintegration pre(imu::ImuBias{Vec3d(0.02, -0.01, 0.03), Vec3d(0.002, -0.001, 0.003)},
                             imu::ImuNoise{0.02, 0.002});
     for (int k = 0; k < 20; ++k) pre.integrate(Vec3d(0.4, 0.2, 9.7), Vec3d(0.2, -0.3, 0.5), 0.005);
