@@ -171,12 +171,12 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
     for (int b = 0; b < 4; ++b)
         if (with_imu || b == 2) offset[b] = n, n += kTangent[b], na += kAmbient[b];
     using Window = std::array<FrameState, 2>;  // prev, cur
-    const auto blocks = [](Window& w, double* block[4]) {
+    const auto blocks = [](const Window& w, const double* block[4]) {
         block[0] = w[0].pose, block[1] = w[0].speed_bias, block[2] = w[1].pose, block[3] = w[1].speed_bias;
     };
     const auto ambient = [&](const Window& w) {
-        double* block[4];
-        blocks(const_cast<Window&>(w), block);
+        const double* block[4];
+        blocks(w, block);
         VecX v(na);
         int k = 0;
         for (int b = 0; b < 4; ++b)
@@ -185,9 +185,9 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
     };
     const auto plus = [&](const Window& w, const VecX& delta, Window& out) {
         out = w;
-        double *from[4], *to[4];
-        blocks(const_cast<Window&>(w), from);
-        blocks(out, to);
+        const double* from[4];
+        blocks(w, from);
+        double* to[4] = {out[0].pose, out[0].speed_bias, out[1].pose, out[1].speed_bias};
         for (int b = 0; b < 4; ++b) {
             if (offset[b] < 0) continue;
             if (kAmbient[b] == 7)
@@ -199,9 +199,8 @@ SolveSummary solveWindow(const FrameProblemInputs& in, const FusionParams& param
     // The cost at w, and (H, g) over the free tangent when asked; NaN when a factor fails.
     detail::TermResidual r;
     detail::TermJacobian Jt;
-    const auto linearize = [&](const Window& w_in, MatX* H, VecX* g) {
-        Window& w = const_cast<Window&>(w_in);  // the factors read the blocks only
-        double* block[4];
+    const auto linearize = [&](const Window& w, MatX* H, VecX* g) {
+        const double* block[4];
         blocks(w, block);
         double cost = 0;
         if (H) H->setZero(n, n), g->setZero(n);

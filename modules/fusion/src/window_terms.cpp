@@ -36,7 +36,7 @@ std::optional<StatePrior> marginalizeInformation(const Mat30d& H, const FrameSta
     return asStatePrior(Hcc - Hcp * ldlt.solve(Hcp.transpose()), cur);
 }
 
-bool evaluateTerm(const WindowTerm& t, double* const block[4], const int col[4], int cols, TermResidual& r,
+bool evaluateTerm(const WindowTerm& t, const double* const block[4], const int col[4], int cols, TermResidual& r,
                   TermJacobian* J) {
     static const PoseManifold manifold;
     constexpr int kAmbient[4] = {7, 9, 7, 9};
@@ -72,7 +72,7 @@ bool evaluateTerm(const WindowTerm& t, double* const block[4], const int col[4],
 
 std::optional<Eigen::Matrix<double, Eigen::Dynamic, 30>> directWindowJacobian(const std::vector<WindowTerm>& terms,
                                                                              FrameState& prev, FrameState& cur) {
-    double* const block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
+    const double* const block[4] = {prev.pose, prev.speed_bias, cur.pose, cur.speed_bias};
     const int col[4] = {0, 6, 15, 21};
     int rows = 0;
     for (const auto& t : terms) rows += t.f->num_residuals();

@@ -44,7 +44,7 @@ using TermJacobian = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kM
 /// speed-bias) and, when J is not null, its Jacobian over `cols` tangent columns: block b's at
 /// col[b] (col[b] < 0: the block is held, no columns), a pose's ambient columns times
 /// PoseManifold's PlusJacobian, as Ceres does. No loss applied. False when the factor fails.
-bool evaluateTerm(const WindowTerm& t, double* const block[4], const int col[4], int cols, TermResidual& r,
+bool evaluateTerm(const WindowTerm& t, const double* const block[4], const int col[4], int cols, TermResidual& r,
                   TermJacobian* J);
 
 /// The factors' Jacobian over the window (30 tangent columns, as windowJacobian's), evaluated
