@@ -30,15 +30,23 @@ struct RealSplit {
     bool ok = false;        ///< the shared data was there
 };
 
+/// Which of kitti00-mini's pose files a split is built and judged on (../shared/data/README.md):
+/// KITTI's ground truth, a constant-velocity fill-in for scans 0-13, so a map built at it is
+/// warped (the scans' walls 6 cm thick); or the LiDAR-consistent reference (`ref_lidar_tum.txt`),
+/// the poses to judge accuracy on these scans by. campus-ouster has one (`gt_tum.txt`).
+enum class KittiPoses { GroundTruth, Reference };
+
 /// Imports `data` (kitti00-mini or campus-ouster) into DIR and builds the prior map from the
-/// scans `map_scans` at `voxel` (superloc-map's defaults otherwise).
+/// scans `map_scans` at `voxel` (superloc-map's defaults otherwise), both at `poses`' poses.
 inline RealSplit prepareRealSplit(const std::string& name, const std::string& data, const std::string& map_scans,
-                                  double voxel) {
+                                  double voxel, KittiPoses poses = KittiPoses::GroundTruth) {
     namespace fs = std::filesystem;
     RealSplit s;
     s.dir = freshDir(name);
     const bool kitti = data == "kitti00-mini";
-    s.gt_tum = sharedData(data + (kitti ? "/gt_velodyne_tum.txt" : "/gt_tum.txt"));
+    s.gt_tum = sharedData(data + (!kitti                                ? "/gt_tum.txt"
+                                  : poses == KittiPoses::Reference ? "/ref_lidar_tum.txt"
+                                                                    : "/gt_velodyne_tum.txt"));
     if (!fs::exists(s.gt_tum)) return s;
     s.rawlog = s.dir + "/all.rawlog";
     if (kitti)

@@ -1,15 +1,18 @@
 // Localization on real data without IMU, by the honest protocol (real_split.h): the prior map is
 // built from the even scans, the odd scans are localized in it with the default INI plus the
-// sensor's facts (both data sets come motion-compensated: deskew off) and the voxel-map
-// association (doc/map.md; not the default yet: see there). Measured (commit of this test):
-//  - kitti00-mini GT start: voxel ATE 0.17-0.19 m; nearest (the default) 0.71 m without the
-//    relocalization, as in the basin issue, 0.18 m with it. Perturbed start: voxel 0.22 m. The
-//    basin issue's goal (<= 0.10 m) is not met yet.
-//  - campus-ouster: voxel ATE 0.020 m (worst 0.039 m), every frame tracked; nearest 11 m.
-//  - kitti00-mini: 8 odd scans 0.2 s apart (5 Hz, ~1.7 m between them), from the GT pose at the
-//    first odd scan and from a start 1.0 m, 1.0 m, 0.2 m and 10 deg of yaw away.
+// sensor's facts (both data sets come motion-compensated: deskew off).
+//  - kitti00-mini: 8 odd scans 0.2 s apart (5 Hz, ~1.7 m between them), from the pose at the
+//    first odd scan and from a start 1.0 m, 1.0 m, 0.2 m and 10 deg of yaw away. Twice: with map
+//    and poses at the LiDAR-consistent reference (ref_lidar_tum.txt, the split accuracy is judged
+//    on), and at KITTI's ground truth, a constant-velocity fill-in for scans 0-13 that the scans
+//    contradict (a warped map: what a drifting SLAM map does to a localizer).
 //  - campus-ouster: 26 odd scans 2 s apart, a walk turning by up to ~90 deg between them (the
 //    relocalization's local search keeps it on track; without it the turns lose it).
+// Until 2026-11-30 the helper below ran the voxel association with 10 rounds (then the tested
+// path, when the default was the kd-tree); it now runs the default INI, as users do. Measured
+// with it: KITTI at the GT from the GT start ATE 0.179 m (voxel: 0.17-0.19), from the perturbed
+// start 0.339 m (voxel: 0.22; the first two frames, `start_ambiguous`); campus 0.0156 m (voxel:
+// 0.020).
 #include <gtest/gtest.h>
 #include <superloc/core/se3.h>
 #include <superloc/io/map_tiles.h>
@@ -32,19 +35,43 @@ class RealSplitRuns : public ::testing::Test {
     static void SetUpTestSuite() {
         kitti_ = superloc::testing::prepareRealSplit("real_split_kitti", "kitti00-mini", "even", 0.2);
         campus_ = superloc::testing::prepareRealSplit("real_split_campus", "campus-ouster", "even", 0.1);
+        kitti_ref_ = superloc::testing::prepareRealSplit("real_split_kitti_ref", "kitti00-mini", "even", 0.1,
+                                                         superloc::testing::KittiPoses::Reference);
     }
     static superloc::testing::LocalizeRun localize(const superloc::testing::RealSplit& s, const std::string& name,
                                                     std::vector<std::string> extra) {
         std::vector<std::string> args = {"--rawlog", s.rawlog, "--map", s.map, "--set", "rawlog.scans=odd",
-                                         "--set", "features.deskew=false", "--set", "association.kind=voxel",
-                                         "--set", "localization.rounds=10"};
+                                         "--set", "features.deskew=false"};
         args.insert(args.end(), extra.begin(), extra.end());
         return superloc::testing::localizeAndCompare(args, s.dir + "/" + name, s.gt_tum, 1.5);
     }
-    static superloc::testing::RealSplit kitti_, campus_;
+    static superloc::testing::RealSplit kitti_, campus_, kitti_ref_;
 };
-superloc::testing::RealSplit RealSplitRuns::kitti_, RealSplitRuns::campus_;
+superloc::testing::RealSplit RealSplitRuns::kitti_, RealSplitRuns::campus_, RealSplitRuns::kitti_ref_;
 }  // namespace
+
+// The KITTI split accuracy is judged on (map and poses at the LiDAR-consistent reference), the
+// default INI from the reference pose: every frame within 2 cm (issue 34's accuracy bound) and
+// `ok`, its reported sigma neither hiding the error nor far above it. Measured (2026-11-30):
+// ATE 0.0086 m, worst 0.0116 m / 0.09 deg, every frame ok, mean 3-D sigma 0.014 m against a mean
+// error 0.008 m.
+TEST_F(RealSplitRuns, KittiReferenceSplitDefaultIniEveryFrameOk) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/ref_lidar_tum.txt");
+    const auto r = localize(kitti_ref_, "reference", {"--initial-pose-tum", kitti_ref_.gt_tum});
+    ASSERT_EQ(r.frames.size(), 8u);
+    EXPECT_LT(r.ate, 0.02) << "ATE RMSE [m]";
+    EXPECT_LT(r.worst_deg, 0.2);
+    EXPECT_EQ(r.count(Health::Ok), 8u);
+    double sigma = 0, err = 0;
+    for (size_t i = 0; i < r.frames.size(); ++i) {
+        sigma += std::sqrt(r.frames[i].cov.topLeftCorner<3, 3>().trace());  // 3-D position sigma
+        err += r.err_m[i];
+    }
+    EXPECT_GT(sigma, err / 3) << "the position sigma hides the error";
+    EXPECT_LT(sigma, err * 3) << "the position sigma is far above the error";
+    std::cout << "kitti reference split, default INI: ATE " << r.ate << " m, worst " << r.worst_m << " m / "
+              << r.worst_deg << " deg, mean sigma " << sigma / 8 << " m against mean error " << err / 8 << " m\n";
+}
 
 TEST_F(RealSplitRuns, KittiOddScansInEvenMapFromGroundTruthStart) {
     SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
