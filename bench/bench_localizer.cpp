@@ -386,6 +386,7 @@ void BM_Association(benchmark::State& state) {
     ap.point_weight = 0.1;
     ap.kind = state.range(0) >= 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
     ap.voxel_planes = state.range(0) <= 1;
+    if (const char* e = std::getenv("SL_THICK")) ap.plane.thickness = std::atof(e);
     const bool hinted = state.range(0) == 3 || state.range(0) == 5;
     const bool memo = state.range(0) >= 4;
     d->map->grid();  // built at load by the run (geometry_at_load)
@@ -414,6 +415,7 @@ void BM_Association(benchmark::State& state) {
     state.counters["reused"] = static_cast<double>(reused);
     state.counters["features"] = static_cast<double>(pts.size());
     state.counters["too_far"] = static_cast<double>(st.too_far);
+    state.counters["voxel_planes"] = static_cast<double>(st.voxel_planes);
     state.counters["map_points"] = static_cast<double>(d->map->size());
     state.counters["per_query_us"] =
         benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate |

@@ -51,6 +51,44 @@ TEST(Voxel, AnIndexBeyond62BitsIsAnErrorNamingTheVoxel) {
     }
 }
 
+// voxelDownsampleIndices against the rule written out with an ordered map: per voxel (in order
+// of first occurrence) the point nearest its centroid, the first of equally near ones. Clouds
+// with negative coordinates, duplicate points (ties), and voxels whose indices do not pack into
+// VoxelIndex's flat table (a 1e-6 m voxel at 10 km: its far map).
+TEST(Voxel, DownsampleIndicesIsTheRuleWrittenOut) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> U(-3.f, 3.f), F(-2e4f, 2e4f);
+    for (int trial = 0; trial < 4; ++trial) {
+        const bool far = trial == 3;
+        const float voxel = far ? 1e-6f : (trial == 0 ? 0.5f : trial == 1 ? 0.1f : 1.3f);
+        std::vector<Vec3f> pts;
+        for (int i = 0; i < 20000; ++i) {
+            pts.push_back(far ? Vec3f(F(rng), F(rng), U(rng)) : Vec3f(U(rng), U(rng), U(rng)));
+            if (i % 7 == 0) pts.push_back(pts.back());  // an exact tie
+        }
+        std::map<std::tuple<int64_t, int64_t, int64_t>, size_t> rank;
+        std::vector<Eigen::Vector3d> sum;
+        std::vector<uint32_t> n;
+        std::vector<size_t> cell(pts.size());
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const VoxelKey k = voxelKey(pts[i], voxel);
+            const auto [it, fresh] = rank.try_emplace({k.x, k.y, k.z}, sum.size());
+            if (fresh) sum.emplace_back(Eigen::Vector3d::Zero()), n.push_back(0);
+            sum[it->second] += pts[i].cast<double>();
+            ++n[it->second];
+            cell[i] = it->second;
+        }
+        std::vector<uint32_t> expect(sum.size(), UINT32_MAX);
+        std::vector<float> best(sum.size());
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const Vec3f centroid = (sum[cell[i]] / n[cell[i]]).cast<float>();
+            const float d = (pts[i] - centroid).squaredNorm();
+            if (expect[cell[i]] == UINT32_MAX || d < best[cell[i]]) expect[cell[i]] = static_cast<uint32_t>(i), best[cell[i]] = d;
+        }
+        EXPECT_EQ(voxelDownsampleIndices(pts, voxel), expect) << "voxel " << voxel;
+    }
+}
+
 // VoxelSet answers as a std::set of the keys would, for negative, block-crossing and huge indices.
 TEST(Voxel, VoxelSetMatchesAnOrderedSet) {
     std::mt19937_64 rng(9);
