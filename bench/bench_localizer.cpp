@@ -386,7 +386,6 @@ void BM_Association(benchmark::State& state) {
     ap.point_weight = 0.1;
     ap.kind = state.range(0) >= 1 ? localization::AssociationKind::Planes : localization::AssociationKind::Nearest;
     ap.voxel_planes = state.range(0) <= 1;
-    if (const char* e = std::getenv("SL_THICK")) ap.plane.thickness = std::atof(e);
     const bool hinted = state.range(0) == 3 || state.range(0) == 5;
     const bool memo = state.range(0) >= 4;
     d->map->grid();  // built at load by the run (geometry_at_load)
