@@ -420,6 +420,28 @@ void BM_Association(benchmark::State& state) {
         benchmark::Counter(static_cast<double>(pts.size()), benchmark::Counter::kIsIterationInvariantRate |
                                                                 benchmark::Counter::kInvert);
 }
+/// Step 2's selection alone (VoxelSelector::selectInRange, as Preprocessor::run calls it): the
+/// range filter and the first point of every 0.5 m voxel of KITTI scan 5 (124k points).
+void BM_ScanSelection(benchmark::State& state) {
+    const SplitData* d = kitti();
+    if (!d) {
+        state.SkipWithError("kitti00-mini not found");
+        return;
+    }
+    const auto& points = d->scans[5].points;
+    features::VoxelSelector sel;
+    std::vector<uint32_t> valid, out;
+    for (auto _ : state) {
+        sel.selectInRange(points, 2.0f, 100.0f, 0.5f, valid, out);
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["points"] = static_cast<double>(points.size());
+    state.counters["candidates"] = static_cast<double>(out.size());
+    state.counters["per_point_ns"] = benchmark::Counter(
+        static_cast<double>(points.size()) * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_ScanSelection)->Unit(benchmark::kMicrosecond);
+
 /// Deskew of one sweep's 2000 features (doc/localizer.md step 2): Arg(0) one constant twist
 /// (SweepMotion::fromTwist), Arg(1) along the IMU's trajectory (imu::sweepPoses: the poses
 /// predicted from the previous state at 17 times over the 0.1 s sweep, 200 Hz samples, then

@@ -114,6 +114,49 @@ TEST(VoxelSelector, OnePointPerVoxelInFiringOrder) {
     EXPECT_EQ(out1, out);
 }
 
+// A scan as a LiDAR fires it: consecutive points a few cm apart, so most share the last point's
+// voxel (the selection's shortcut skips their key), crossing negative coordinates and landing on
+// voxel faces exactly (x = -0.5, 0, 0.5 ...). Against the rule written out: the first point of
+// each voxel, in order.
+TEST(VoxelSelector, FiringOrderedRunsKeepTheFirstPointOfEachVoxel) {
+    std::vector<Vec3f> pts;
+    // Runs along each axis in steps of 1/8 m (exact in binary): every second or fourth point lies
+    // on a face of the voxel the point before it is in.
+    for (int axis = 0; axis < 3; ++axis)
+        for (int k = -16; k <= 16; ++k) {
+            Vec3f p(2.1f, 2.1f, 0.1f);
+            p[axis] = 0.125f * static_cast<float>(k) + (axis == 2 ? 0.0f : 2.0f);
+            pts.push_back(p);
+        }
+    for (int ring = 0; ring < 16; ++ring)
+        for (int k = 0; k < 2000; ++k) {
+            const float a = static_cast<float>(k) * 0.00314f, r = 3.0f + 0.7f * static_cast<float>(ring);
+            pts.emplace_back(r * std::cos(a), r * std::sin(a), -1.0f + 0.125f * static_cast<float>(ring));
+            if (k % 97 == 0) pts.emplace_back(0.5f * static_cast<float>(k % 5) - 1.0f, -0.5f, 0.0f);  // on faces
+        }
+    for (const float voxel : {0.5f, 0.1f, 0.25f}) {
+        std::map<std::tuple<int64_t, int64_t, int64_t>, uint32_t> first;
+        std::vector<uint32_t> expect, valid_expect;
+        for (uint32_t i = 0; i < pts.size(); ++i) {
+            const float r = pts[i].norm();
+            if (!(r >= 1.0f && r <= 12.0f)) continue;
+            valid_expect.push_back(i);
+            const float inv = 1.0f / voxel;
+            const auto c = std::make_tuple(static_cast<int64_t>(std::floor(pts[i].x() * inv)),
+                                           static_cast<int64_t>(std::floor(pts[i].y() * inv)),
+                                           static_cast<int64_t>(std::floor(pts[i].z() * inv)));
+            if (first.emplace(c, i).second) expect.push_back(i);
+        }
+        VoxelSelector sel;
+        std::vector<uint32_t> valid, out;
+        sel.selectInRange(pts, 1.0f, 12.0f, voxel, valid, out);
+        EXPECT_EQ(valid, valid_expect) << voxel;
+        EXPECT_EQ(out, expect) << voxel;
+        sel.select(pts, valid, voxel, out);
+        EXPECT_EQ(out, expect) << voxel;
+    }
+}
+
 TEST(Preprocess, RangeFilterDropsNaNAndOutOfRange) {
     std::vector<Vec3f> pts = {{0.5f, 0, 0}, {5, 0, 0}, {NAN, 0, 0}, {200, 0, 0}, {0, 3, 4}};
     std::vector<uint32_t> out, selected;

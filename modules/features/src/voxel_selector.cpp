@@ -3,16 +3,9 @@
 #include <superloc/features/voxel_selector.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace superloc::features {
-
-namespace {
-// 21 bits per axis (±1M voxels): plenty for any LiDAR range at voxel >= 1 mm.
-inline uint64_t packKey(const Vec3f& p, float inv) {
-    // Finite points within the range filter's bounds: floorToInt is exact there.
-    return packVoxelIndices(floorToInt(p.x() * inv), floorToInt(p.y() * inv), floorToInt(p.z() * inv));
-}
-}  // namespace
 
 // A key uses 63 bits (3 x 21), so all ones is never one.
 constexpr uint64_t kEmpty = ~0ULL;
@@ -30,57 +23,77 @@ void VoxelSelector::grow() {
     }
 }
 
-void VoxelSelector::firstPerVoxel(const std::vector<uint32_t>& idx, std::vector<uint32_t>& out) {
-    // keys_[j] is the voxel of point idx[j].
-    out.clear();
-    // Keep the last frame's size (the next scan has about as many voxels).
-    if (slots_.size() < 4096)
-        slots_.assign(4096, kEmpty);
-    else
-        std::fill(slots_.begin(), slots_.end(), kEmpty);
-    uint64_t mask = slots_.size() - 1;
-    size_t used = 0;
-    uint64_t last = kEmpty;  // consecutive points often share a voxel: no probe then
-    for (size_t j = 0; j < idx.size(); ++j) {
-        const uint64_t key = keys_[j];
-        if (key == last) continue;
-        last = key;
-        uint64_t h = mixVoxelKey(key) & mask;
-        while (slots_[h] != kEmpty && slots_[h] != key) h = (h + 1) & mask;
-        if (slots_[h] == kEmpty) {
-            slots_[h] = key;
-            out.push_back(idx[j]);
-            if (2 * (++used) > slots_.size()) {
-                grow();  // rehashes the keys so far, this one included
-                mask = slots_.size() - 1;
-            }
-        }
+/// The first point of each voxel, in the order the points are offered (VoxelSelector's table,
+/// cleared): offer() says whether a point is its voxel's first. Consecutive points often share a
+/// voxel: then neither key nor probe, only the point's scaled coordinates against the last
+/// voxel's [lo, lo + 1) per axis (exact: the indices of finite points within the range filter are
+/// far below 2^24, and beyond it the interval is empty).
+class VoxelSelector::FirstOfVoxel {
+   public:
+    FirstOfVoxel(VoxelSelector& sel, float voxel) : sel_(sel), inv_(1.0f / voxel) {
+        // Keep the last frame's size (the next scan has about as many voxels).
+        if (sel_.slots_.size() < 4096)
+            sel_.slots_.assign(4096, kEmpty);
+        else
+            std::fill(sel_.slots_.begin(), sel_.slots_.end(), kEmpty);
+        slots_ = sel_.slots_.data();
+        mask_ = sel_.slots_.size() - 1;
     }
-}
+    bool offer(const Vec3f& p) {
+        const Vec3f q = p * inv_;
+        if (q.x() >= lo_.x() && q.x() < lo_.x() + 1.0f && q.y() >= lo_.y() && q.y() < lo_.y() + 1.0f &&
+            q.z() >= lo_.z() && q.z() < lo_.z() + 1.0f)
+            return false;
+        const int64_t ix = floorToInt(q.x()), iy = floorToInt(q.y()), iz = floorToInt(q.z());
+        lo_ = Vec3f(static_cast<float>(ix), static_cast<float>(iy), static_cast<float>(iz));
+        const uint64_t key = packVoxelIndices(ix, iy, iz);
+        if (key == last_) return false;
+        last_ = key;
+        uint64_t h = mixVoxelKey(key) & mask_;
+        while (slots_[h] != kEmpty && slots_[h] != key) h = (h + 1) & mask_;
+        if (slots_[h] != kEmpty) return false;
+        slots_[h] = key;
+        if (2 * (++used_) > mask_ + 1) {
+            sel_.grow();  // rehashes the keys so far, this one included
+            slots_ = sel_.slots_.data();
+            mask_ = sel_.slots_.size() - 1;
+        }
+        return true;
+    }
+
+   private:
+    VoxelSelector& sel_;
+    float inv_;
+    uint64_t* slots_ = nullptr;  ///< sel_.slots_'s, again after each grow()
+    uint64_t mask_ = 0;
+    size_t used_ = 0;
+    uint64_t last_ = kEmpty;
+    Vec3f lo_ = Vec3f::Constant(std::numeric_limits<float>::quiet_NaN());  // compares false: no voxel yet
+};
 
 void VoxelSelector::select(const std::vector<Vec3f>& points, const std::vector<uint32_t>& candidates,
                            float voxel, std::vector<uint32_t>& out) {
-    const float inv = 1.0f / voxel;
-    keys_.resize(candidates.size());
-    for (size_t j = 0; j < candidates.size(); ++j) keys_[j] = packKey(points[candidates[j]], inv);
-    firstPerVoxel(candidates, out);
+    out.clear();
+    FirstOfVoxel first(*this, voxel);
+    for (uint32_t i : candidates)
+        if (first.offer(points[i])) out.push_back(i);
 }
 
 void VoxelSelector::selectInRange(const std::vector<Vec3f>& points, float min_range, float max_range,
                                   float voxel, std::vector<uint32_t>& valid, std::vector<uint32_t>& out) {
-    // The range test and the voxel keys in one pass over the points (a scan is read once, in order).
-    const float r2min = min_range * min_range, r2max = max_range * max_range, inv = 1.0f / voxel;
+    // The range test and the selection in one pass over the points (a scan is read once, in order).
+    const float r2min = min_range * min_range, r2max = max_range * max_range;
     valid.clear();
     valid.reserve(points.size());
-    keys_.resize(points.size());
-    for (uint32_t i = 0; i < points.size(); ++i) {
+    out.clear();
+    FirstOfVoxel first(*this, voxel);
+    const uint32_t n = static_cast<uint32_t>(points.size());
+    for (uint32_t i = 0; i < n; ++i) {
         const float r2 = points[i].squaredNorm();
-        if (r2 >= r2min && r2 <= r2max) {  // NaN compares false: dropped
-            keys_[valid.size()] = packKey(points[i], inv);
-            valid.push_back(i);
-        }
+        if (!(r2 >= r2min && r2 <= r2max)) continue;  // NaN compares false: dropped
+        valid.push_back(i);
+        if (first.offer(points[i])) out.push_back(i);
     }
-    firstPerVoxel(valid, out);
 }
 
 void takeEvenly(const std::vector<uint32_t>& idx, size_t max_count, std::vector<uint32_t>& out) {

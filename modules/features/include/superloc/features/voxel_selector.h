@@ -19,8 +19,8 @@ class VoxelSelector {
                 float voxel, std::vector<uint32_t>& out);
 
     /// The indices of the finite points whose range lies in [min_range, max_range] (into
-    /// `valid`) and select() of those (into `out`), in one pass over the points (~20 % cheaper
-    /// on a 124k-point scan than two). Both are cleared first.
+    /// `valid`) and select() of those (into `out`), in one pass over the points. Both are cleared
+    /// first.
     void selectInRange(const std::vector<Vec3f>& points, float min_range, float max_range, float voxel,
                        std::vector<uint32_t>& valid, std::vector<uint32_t>& out);
 
@@ -29,9 +29,8 @@ class VoxelSelector {
     /// (at most half full, doubled when needed), not by the points: a 124k-point scan has ~11k
     /// occupied 0.5 m voxels, and a table that fits the cache is what makes the pass fast.
     std::vector<uint64_t> slots_;
-    std::vector<uint64_t> keys_;  ///< voxel key of each candidate, in order
     void grow();
-    void firstPerVoxel(const std::vector<uint32_t>& idx, std::vector<uint32_t>& out);
+    class FirstOfVoxel;  ///< one selection's pass over the table (voxel_selector.cpp)
 };
 
 /// At most `max_count` of `idx`, evenly strided over it (keeps the spatial spread of a
