@@ -154,6 +154,14 @@ TEST(VoxelSelector, FiringOrderedRunsKeepTheFirstPointOfEachVoxel) {
         EXPECT_EQ(out, expect) << voxel;
         sel.select(pts, valid, voxel, out);
         EXPECT_EQ(out, expect) << voxel;
+        // A selector whose last cloud came in no firing order (its points seldom in their
+        // predecessor's voxel) skips the shortcut on the next call: the same answer.
+        std::vector<uint32_t> shuffled = valid, ignored;
+        std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(3));
+        VoxelSelector other;
+        other.select(pts, shuffled, voxel, ignored);
+        other.selectInRange(pts, 1.0f, 12.0f, voxel, valid, out);
+        EXPECT_EQ(out, expect) << voxel << ", after a shuffled cloud";
     }
 }
 

@@ -29,6 +29,7 @@ class VoxelSelector {
     /// (at most half full, doubled when needed), not by the points: a 124k-point scan has ~11k
     /// occupied 0.5 m voxels, and a table that fits the cache is what makes the pass fast.
     std::vector<uint64_t> slots_;
+    bool shortcut_ = true;  ///< FirstOfVoxel's test against the last voxel paid on the last call
     void grow();
     class FirstOfVoxel;  ///< one selection's pass over the table (voxel_selector.cpp)
 };
