@@ -125,3 +125,33 @@ TEST(Voxel, VoxelIndexMatchesAnOrderedMap) {
     EXPECT_EQ(index.size(), ref.size());
     EXPECT_GT(index.memoryBytes(), 0u);
 }
+
+// VoxelFirstPoints numbers the voxels by first occurrence and keeps each one's first point, as a
+// std::map from the keys would, for points on voxel faces, negative coordinates and far points
+// (keys beyond VoxelIndex's packed range); a point not finite throws naming the voxel size.
+TEST(Voxel, VoxelFirstPointsMatchesAnOrderedMap) {
+    std::mt19937_64 rng(12);
+    std::uniform_real_distribution<float> near(-3.0f, 3.0f), far(-4.0e5f, 4.0e5f);
+    std::uniform_int_distribution<int> face(-60, 60);
+    const float voxel = 0.05f;
+    std::map<std::tuple<int64_t, int64_t, int64_t>, uint32_t> ref;
+    std::vector<Vec3f> firsts;
+    VoxelFirstPoints index(voxel);
+    for (int i = 0; i < 200000; ++i) {
+        Vec3f p(near(rng), near(rng), near(rng));
+        if (i % 7 == 0) p.x() = static_cast<float>(face(rng)) * voxel;  // on a face
+        if (i % 101 == 0) p.y() = far(rng);
+        const VoxelKey k = voxelKey(p, voxel);
+        const auto [it, fresh] = ref.try_emplace({k.x, k.y, k.z}, static_cast<uint32_t>(ref.size()));
+        if (fresh) firsts.push_back(p);
+        const auto [number, added] = index.add(p);
+        ASSERT_EQ(added, fresh) << p.transpose();
+        ASSERT_EQ(number, it->second) << p.transpose();
+    }
+    EXPECT_EQ(index.points(), firsts);
+    EXPECT_EQ(index.size(), ref.size());
+    // Slots of 4 bytes at a load of at most one half, and the points.
+    EXPECT_LE(index.memoryBytes(), ref.size() * (16 + 2 * sizeof(Vec3f)) + 4 * 64);
+    EXPECT_THROW(index.add(Vec3f(std::nanf(""), 0, 0)), std::invalid_argument);
+    EXPECT_THROW(VoxelFirstPoints(0.0f), std::invalid_argument);
+}

@@ -4,6 +4,8 @@
 // unobservable). The risk scenes themselves (plane -> x y yaw, corridor -> x, room -> none) are in
 // tests/risk.
 #include <gtest/gtest.h>
+#include <fstream>
+#include <iterator>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <superloc/core/config.h>
 #include <superloc/core/se3.h>
@@ -258,7 +260,15 @@ TEST(ObservabilityScan, VoxelMajorityColourAndPly) {
     ASSERT_EQ(back.size(), 3u);
     ASSERT_EQ(back.rgb.size(), 3u);
     EXPECT_EQ(back.rgb[1], c.rgb[1]);
+    // Written in place (no cloud built), the bytes of the cloud saved as PLY.
+    const std::string via_cloud = path + ".cloud.ply";
+    io::savePointCloud(via_cloud, c);
+    std::ifstream a(path, std::ios::binary), b(via_cloud, std::ios::binary);
+    const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_EQ(bytes_a, bytes_b);
+    EXPECT_GT(bytes_a.size(), 3u * 15u);
     std::filesystem::remove(path);
+    std::filesystem::remove(via_cloud);
 }
 
 namespace {

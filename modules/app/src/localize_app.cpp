@@ -78,6 +78,26 @@ LocalizeApp::LocalizeApp() : mrpt::system::COutputLogger("superloc-localize") {}
 
 namespace {
 
+/// A pose of the run kept for the summary's ATE (an estimate, or the rawlog's ground truth):
+/// 104 bytes where a PoseStamped takes 432 (its optional covariance); a 30-minute run keeps
+/// 35 000 of them.
+struct KeptPose {
+    double t = 0;
+    Mat3d R = Mat3d::Identity();
+    Vec3d p = Vec3d::Zero();
+    static KeptPose of(const PoseStamped& s) { return {s.t, s.pose.linear(), s.pose.translation()}; }
+};
+
+Trajectory trajectoryOf(const std::vector<KeptPose>& kept) {
+    Trajectory out(kept.size());
+    for (size_t i = 0; i < kept.size(); ++i) {
+        out[i].t = kept[i].t;
+        out[i].pose.linear() = kept[i].R;
+        out[i].pose.translation() = kept[i].p;
+    }
+    return out;
+}
+
 /// The command line of superloc-localize; every value lands in `a`.
 struct LocalizeArgs {
     std::string config, rawlog, map, method, out, pose, pose_tum;
@@ -228,7 +248,10 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     if (prior->size() == 0)
         throw ConfigError(run_.map + (tiles ? ": no map tile within [map] tile_radius of the initial pose"
                                             : ": the map has no points"));
-    localization::Localizer loc(loc_, prior);
+    // Destroyed with the map before the last outputs are written (finish): what they build then
+    // does not add to the run's peak memory.
+    std::optional<localization::Localizer> loc_holder;
+    localization::Localizer& loc = loc_holder.emplace(loc_, prior);
     loc.setMinLoggingLevel(getMinLoggingLevel());
     if (loc.globalSearch())
         MRPT_LOG_INFO_FMT("global search grids: %.2f s, %.1f MB", loc.globalSearch()->buildSeconds(),
@@ -264,13 +287,17 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     summary_.map_prepare_s = prior->prepareSeconds();
     summary_.map_points_max = prior->size();
     std::vector<double> ms, cpu, st[5], sigma_xyz, sigma_deg;
-    Trajectory est, gt;
+    std::vector<KeptPose> est, gt;
     io::RawlogItem item;
     bool in_divergence = false;
     // The statistics of the frames processed so far, and summary.json, localized_map.pcd and
     // observability_scan.ply from them: at the end of the rawlog, and also when the run stops on
     // an error (doc/localizer.md "Faults"), so that every output says what was done.
     const auto finish = [&](const std::string& error) {
+        // Nothing below needs the localizer or the map (a tiled map's follower stays: its
+        // statistics and tile index are read).
+        loc_holder.reset();
+        prior.reset();
         summary_.rawlog = reader.stats();
         if (tiles) {
             const auto& ts = tiles->stats();
@@ -298,12 +325,13 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                  eval::median(st[3]), eval::median(st[4]), summary_.ms_median};
         // ATE against the rawlog's own ground truth, when it has one (same frame as the output,
         // no alignment): GT interpolated at each estimate's time (gaps up to 1 s), then eval's ATE.
+        const Trajectory est_t = trajectoryOf(est), gt_t = trajectoryOf(gt);
         Trajectory gt_at;
-        for (const auto& e : est)
-            if (const auto g = interpolateAt(gt, e.t, 1.0, 1e-3)) gt_at.push_back({e.t, *g, {}});
+        for (const auto& e : est_t)
+            if (const auto g = interpolateAt(gt_t, e.t, 1.0, 1e-3)) gt_at.push_back({e.t, *g, {}});
         if (!gt_at.empty()) {
-            const eval::Association pairs = eval::associate(est, gt_at, 1e-6);
-            const eval::AteResult ate = eval::computeAte(est, gt_at, pairs, false);
+            const eval::Association pairs = eval::associate(est_t, gt_at, 1e-6);
+            const eval::AteResult ate = eval::computeAte(est_t, gt_at, pairs, false);
             summary_.gt_matched = ate.trans.n;
             if (ate.trans.n) summary_.ate_rmse = ate.trans.rmse, summary_.ate_max = ate.trans.max;
         }
@@ -324,7 +352,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
             switch (item.kind) {
                 case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
                 case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
-                case io::RawlogItem::Kind::GroundTruth: gt.push_back(item.pose()); break;
+                case io::RawlogItem::Kind::GroundTruth: gt.push_back(KeptPose::of(item.pose())); break;
                 case io::RawlogItem::Kind::Lidar: {
                     const localization::FrameReport r = loc.process(item.scan(), &frame_out);
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
@@ -336,7 +364,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                           tm.pointsLoaded());
                     }
                     out.addFrame(r, T, frame_out.map_points);
-                    est.push_back({r.t, T, {}});
+                    est.push_back(KeptPose{r.t, T.linear(), T.translation()});
                     if (run_.save_observability_scan) {
                         obs_scan.add(frame_out.obs_points, frame_out.obs_labels);
                         if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive

@@ -8,7 +8,7 @@
 
 namespace superloc::app {
 
-ObservabilityScan::ObservabilityScan(double voxel) : voxel_(static_cast<float>(voxel)) {
+ObservabilityScan::ObservabilityScan(double voxel) : voxels_(static_cast<float>(voxel)) {
     if (!(voxel > 0)) throw std::invalid_argument("ObservabilityScan: voxel must be > 0");
 }
 
@@ -16,31 +16,34 @@ void ObservabilityScan::add(const std::vector<Vec3f>& points, const std::vector<
     const size_t n = std::min(points.size(), labels.size());
     for (size_t i = 0; i < n; ++i) {
         if (!points[i].allFinite()) continue;
-        const auto [slot, inserted] =
-            index_.tryEmplace(voxelKey(points[i], voxel_), static_cast<uint32_t>(points_.size()));
-        if (inserted) {
-            points_.push_back(points[i]);
-            votes_.push_back({0, 0, 0, 0});
-        }
+        const auto [slot, inserted] = voxels_.add(points[i]);
+        if (inserted) votes_.push_back({0, 0, 0, 0});
         const int l = labels[i];
         votes_[slot][l >= 0 && l < 3 ? l : 3]++;
     }
 }
 
+std::array<uint8_t, 3> ObservabilityScan::colour(size_t i) const {
+    const auto& v = votes_[i];
+    const int best = static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin());
+    return risk::observabilityColor(best < 3 ? best : risk::kNoLabel);
+}
+
 PointCloud ObservabilityScan::cloud() const {
     PointCloud c;
-    c.points = points_;
-    c.rgb.reserve(points_.size());
-    for (const auto& v : votes_) {
-        const int best = static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin());
-        c.rgb.push_back(risk::observabilityColor(best < 3 ? best : risk::kNoLabel));
-    }
+    c.points = voxels_.points();
+    c.rgb.reserve(c.points.size());
+    for (size_t i = 0; i < votes_.size(); ++i) c.rgb.push_back(colour(i));
     return c;
+}
+
+size_t ObservabilityScan::memoryBytes() const {
+    return voxels_.memoryBytes() + votes_.capacity() * sizeof(votes_[0]);
 }
 
 void ObservabilityScan::write(const std::string& path) const {
     const std::string tmp = path + ".tmp.ply";
-    io::savePointCloud(tmp, cloud(), io::CloudFormat::Ply);
+    io::saveColouredPly(tmp, voxels_.points(), [this](size_t i) { return colour(i); });
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec)

@@ -220,7 +220,8 @@ void RunOutputs::finish(const RunSummary& s) {
     const io::Json summary = summaryJson(s);
     io::saveJson((std::filesystem::path(dir_) / "summary.json").string(), summary);
     PointCloud cloud;
-    cloud.points = map_;
+    cloud.points = std::move(map_);  // the last use of the points: no copy of a long run's map
+    map_.clear();
     io::savePointCloud((std::filesystem::path(dir_) / "localized_map.pcd").string(), cloud);
     if (report_)
         writeTextFile((std::filesystem::path(dir_) / "report.html").string(), report_->html(summary, dir_));

@@ -70,6 +70,43 @@ size_t VoxelIndex::memoryBytes() const {
     return slots_.capacity() * sizeof(Slot) + far_.size() * (sizeof(VoxelKey) + 2 * sizeof(void*) + 8);
 }
 
+VoxelFirstPoints::VoxelFirstPoints(float voxel) : voxel_(voxel) {
+    if (!(voxel > 0)) throw std::invalid_argument("VoxelFirstPoints: voxel must be > 0 m");
+}
+
+std::pair<uint32_t, bool> VoxelFirstPoints::add(const Vec3f& p) {
+    const VoxelKey k = voxelKey(p, voxel_);
+    if (2 * (points_.size() + 1) > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t h = VoxelKeyHash{}(k) & mask;; h = (h + 1) & mask) {
+        uint32_t& s = slots_[h];
+        if (s == kEmpty) {
+            s = static_cast<uint32_t>(points_.size());
+            points_.push_back(p);
+            return {s, true};
+        }
+        if (voxelKey(points_[s], voxel_) == k) return {s, false};
+    }
+}
+
+void VoxelFirstPoints::grow() {
+    std::vector<uint32_t> old(slots_.size() * 2, kEmpty);
+    old.swap(slots_);
+    const size_t mask = slots_.size() - 1;
+    for (const uint32_t s : old) {
+        if (s == kEmpty) continue;
+        for (size_t h = VoxelKeyHash{}(voxelKey(points_[s], voxel_)) & mask;; h = (h + 1) & mask)
+            if (slots_[h] == kEmpty) {
+                slots_[h] = s;
+                break;
+            }
+    }
+}
+
+size_t VoxelFirstPoints::memoryBytes() const {
+    return slots_.capacity() * sizeof(uint32_t) + points_.capacity() * sizeof(Vec3f);
+}
+
 VoxelKey voxelKey(const Vec3f& p, float voxel) {
     // The division stays in float (the keys of every voxel size that fitted 32 bits are
     // unchanged); only the range check is new.

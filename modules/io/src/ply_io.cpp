@@ -2,7 +2,11 @@
 // x y z [intensity] [nx ny nz] [red green blue]. Read: any vertex properties of scalar type
 // (x y z required; intensity|scalar_intensity|reflectance, nx ny nz|normal_x.., red green blue
 // used), other elements after the vertices are ignored.
+#include <superloc/io/point_cloud_io.h>
+
 #include <algorithm>
+#include <array>
+#include <functional>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -183,17 +187,24 @@ PointCloud readPly(const std::string& path) {
     return c;
 }
 
-void writePly(const std::string& path, const PointCloud& c, bool binary) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) throw std::runtime_error(path + ": cannot write");
-    const bool has_i = !c.intensity.empty(), has_n = !c.normals.empty(), has_c = !c.rgb.empty();
+namespace {
+/// The header of a vertex element of n points with the attributes asked for.
+void writePlyHeader(std::ostream& out, bool binary, size_t n, bool has_i, bool has_n, bool has_c) {
     out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
-        << "comment written by SuperLoc\nelement vertex " << c.size() << "\n"
+        << "comment written by SuperLoc\nelement vertex " << n << "\n"
         << "property float x\nproperty float y\nproperty float z\n";
     if (has_i) out << "property float intensity\n";
     if (has_n) out << "property float nx\nproperty float ny\nproperty float nz\n";
     if (has_c) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     out << "end_header\n";
+}
+}  // namespace
+
+void writePly(const std::string& path, const PointCloud& c, bool binary) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(path + ": cannot write");
+    const bool has_i = !c.intensity.empty(), has_n = !c.normals.empty(), has_c = !c.rgb.empty();
+    writePlyHeader(out, binary, c.size(), has_i, has_n, has_c);
     if (binary) {
         std::vector<char> rec;
         for (size_t i = 0; i < c.size(); ++i) {
@@ -227,3 +238,21 @@ void writePly(const std::string& path, const PointCloud& c, bool binary) {
 }
 
 }  // namespace superloc::io::detail
+
+namespace superloc::io {
+
+void saveColouredPly(const std::string& path, const std::vector<Vec3f>& points,
+                     const std::function<std::array<uint8_t, 3>(size_t)>& colour) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(path + ": cannot write");
+    detail::writePlyHeader(out, true, points.size(), false, false, true);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const std::array<uint8_t, 3> rgb = colour(i);
+        out.write(reinterpret_cast<const char*>(points[i].data()), 12);
+        out.write(reinterpret_cast<const char*>(rgb.data()), 3);
+    }
+    out.flush();
+    if (!out) throw std::runtime_error(path + ": write error");
+}
+
+}  // namespace superloc::io

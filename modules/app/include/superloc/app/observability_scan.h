@@ -23,15 +23,18 @@ class ObservabilityScan {
     void add(const std::vector<Vec3f>& points, const std::vector<int8_t>& labels);
     /// The coloured cloud (points + rgb), in order of first occurrence.
     PointCloud cloud() const;
-    size_t size() const { return points_.size(); }
+    size_t size() const { return voxels_.size(); }
     /// Writes the cloud as binary PLY through a temporary file renamed into place, so a reader
-    /// (or a crash while writing) never sees a half-written file. Throws naming the path.
+    /// (or a crash while writing) never sees a half-written file; the points are read in place
+    /// (no copy of the cloud). Throws naming the path.
     void write(const std::string& path) const;
+    /// Resident bytes of the voxels and their votes.
+    size_t memoryBytes() const;
 
  private:
-    float voxel_;
-    VoxelIndex index_;
-    std::vector<Vec3f> points_;
+    /// The colour of voxel i: its most frequent label's.
+    std::array<uint8_t, 3> colour(size_t i) const;
+    VoxelFirstPoints voxels_;  ///< each voxel's first point (16-28 bytes a voxel with its slots)
     std::vector<std::array<uint32_t, 4>> votes_;  ///< x, y, z, none
 };
 

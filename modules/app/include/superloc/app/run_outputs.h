@@ -79,7 +79,8 @@ class RunOutputs {
     ~RunOutputs();
 
     void addFrame(const localization::FrameReport& r, const SE3d& T_written, const std::vector<Vec3f>& map_points);
-    /// Writes summary.json and localized_map.pcd, and report.html when asked for.
+    /// Writes summary.json and localized_map.pcd, and report.html when asked for; once, at the end
+    /// (the map's points are handed to the file).
     void finish(const RunSummary& s);
     const std::string& dir() const { return dir_; }
     /// The report's data (its map, its inputs); nullptr when no report is written.

@@ -6,7 +6,11 @@
 
 #include <superloc/core/types.h>
 
+#include <array>
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <vector>
 
 namespace superloc::io {
 
@@ -29,6 +33,12 @@ PointCloud loadPointCloud(const std::string& path, CloudFormat format = CloudFor
 /// .pcd is written binary. Throws std::runtime_error naming the file on failure.
 void savePointCloud(const std::string& path, const PointCloud& cloud,
                     CloudFormat format = CloudFormat::Auto);
+
+/// Writes points coloured by colour(i) as binary PLY (x y z, red green blue), reading them in
+/// place: the bytes savePointCloud writes for that cloud (.ply), without building it (the
+/// observability scan of a long run). Throws std::runtime_error naming the file on failure.
+void saveColouredPly(const std::string& path, const std::vector<Vec3f>& points,
+                     const std::function<std::array<uint8_t, 3>(size_t)>& colour);
 
 /// The format chosen for a path by extension (case-insensitive); throws naming the file when
 /// the extension is unknown.
