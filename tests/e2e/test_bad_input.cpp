@@ -223,6 +223,9 @@ std::vector<BadInput> cases() {
     c.push_back({"LocalizeNegativeHypothesisFeatures", L,
                  [](const std::string& d) { return localize(d, "", {"--set", "relocalization.hypothesis_features=-1"}); },
                  1, {"[relocalization] hypothesis_features must be >= 0"}});
+    c.push_back({"LocalizeNegativeDoubtSearchPeriod", L,
+                 [](const std::string& d) { return localize(d, "", {"--set", "relocalization.doubt_search_period=-0.5"}); },
+                 1, {"[relocalization] doubt_search_period must be >= 0 s"}});
     c.push_back({"LocalizeTumRepeatedTime", L,
                  [](const std::string& d) {
                      write(d + "/start.tum", "0.0 0 0 0 0 0 0 1\n0.0 1 0 0 0 0 0 1\n");

@@ -22,6 +22,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "e2e_run.h"
 #include "real_split.h"
@@ -181,6 +182,46 @@ TEST_F(RealSplitRuns, CampusTurnsAreMeasuredFromATurnedFirstGuess) {
     std::cout << "campus split: " << measured_guess << " frames measured against the last scan, " << searched_guess
               << " searched (from no motion only: " << measured_none << ", " << searched_none << "), ATE "
               << guess.ate << " m\n";
+}
+
+// Doubt searches are rate-limited (doc/health.md, "Triggers"): in the warped map the odd frames
+// from 3 on end their rounds still moving (in doubt); after a doubt's search confirmed a frame's
+// own pose (not_better), the frames in doubt within [relocalization] doubt_search_period (1 s)
+// are not searched but kept, degraded (reloc_result `deferred`). A search that moved the pose
+// holds none back.
+TEST_F(RealSplitRuns, KittiWarpedMapDoubtSearchesRateLimited) {
+    SUPERLOC_REQUIRE_DATA("kitti00-mini/gt_velodyne_tum.txt");
+    const auto limited = localize(kitti_, "doubt_limited",
+                                  {"--initial-pose-tum", kitti_.gt_tum, "--set", "relocalization.doubt_search_period=1"});
+    const auto every = localize(kitti_, "doubt_every", {"--initial-pose-tum", kitti_.gt_tum});
+    ASSERT_EQ(limited.frames.size(), 8u);
+    ASSERT_EQ(every.frames.size(), 8u);
+    const auto searches = [](const superloc::testing::LocalizeRun& r) {
+        size_t n = 0;
+        for (const auto& f : r.frames) n += f.reloc.trigger == "doubt" && f.reloc.outcome != RelocOutcome::Deferred;
+        return n;
+    };
+    size_t deferred = 0;
+    double confirmed = std::numeric_limits<double>::quiet_NaN();  // the last doubt search that confirmed its frame's pose
+    for (const auto& f : limited.frames) {
+        if (f.reloc.outcome == RelocOutcome::Deferred) {
+            ++deferred;
+            EXPECT_EQ(f.reloc.trigger, "doubt");
+            EXPECT_NE(f.health, Health::Ok) << "a deferred frame at t=" << f.t;
+            EXPECT_LT(f.t - confirmed, 1.0) << "deferred at t=" << f.t << " (NaN: no confirming search before)";
+        } else if (f.reloc.trigger == "doubt") {
+            if (f.reloc.outcome == RelocOutcome::NotBetter) confirmed = f.t;
+            if (f.reloc.outcome == RelocOutcome::Accepted) confirmed = std::numeric_limits<double>::quiet_NaN();
+        }
+    }
+    for (const auto& f : every.frames) EXPECT_NE(f.reloc.outcome, RelocOutcome::Deferred);
+    EXPECT_GE(deferred, 1u);
+    EXPECT_LT(searches(limited), searches(every));
+    EXPECT_EQ(limited.confidentlyWrong(), 0u);
+    EXPECT_LT(limited.ate, 0.25) << "ATE RMSE [m]";
+    std::cout << "kitti split, warped map, GT start: " << searches(limited) << " doubt searches, " << deferred
+              << " deferred, ATE " << limited.ate << " m, " << limited.count(Health::Ok) << " ok; every frame in doubt searched: "
+              << searches(every) << " searches, ATE " << every.ate << " m, " << every.count(Health::Ok) << " ok\n";
 }
 
 // Why the KITTI split's first frames have a floor of ~0.15 m (doc/results.md, "KITTI split"):

@@ -83,10 +83,23 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
     // unconstrained (a corridor: the search could not tell the places along it apart).
     const bool suspicious =
         v.health == Health::Degraded && (c.badFit() || ((c.inDoubt() || unconfirmed) && !c.weakTranslation()));
-    if (!(search_ && may_search && (lost_run_ >= rp.local_after_lost || suspicious))) {
-        if (c.inDoubt() || v.health == Health::Lost) doubt_ = true;
+    // A frame only in doubt (not lost, not fitting clearly worse) less than doubt_search_period
+    // after a doubt's search found nothing better (the frame's pose confirmed: the map disagrees
+    // with the scans there, and a search every frame would only confirm it again) waits: it keeps
+    // its pose, degraded, and its doubt goes on to the next frame. A search that moved the pose
+    // does not hold the next one back: tracking from there is what is in question.
+    const bool lost_search = lost_run_ >= rp.local_after_lost;
+    const bool deferred = search_ && may_search && suspicious && !lost_search && !c.badFit() && confirmed_t_ &&
+                          f.scan->t - *confirmed_t_ < rp.doubt_search_period;
+    if (deferred || !(search_ && may_search && (lost_search || suspicious))) {
+        if (c.inDoubt() || v.health == Health::Lost || deferred) doubt_ = true;
         RecoveryDecision d;
         d.evidence = std::move(evidence);
+        if (deferred) {
+            d.reloc.emplace();
+            d.reloc->trigger = "doubt";
+            d.reloc->outcome = RelocOutcome::Deferred;
+        }
         return d;
     }
     const auto region = lostRegion(f.scan->t, lost_run_);
@@ -96,11 +109,13 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
             // The pose taken is judged afresh: the evidence so far was about the frame's own and
             // does not go with it. It was verified, so not lost.
             lost_run_ = 0;
+            confirmed_t_.reset();
             doubt_ = false;
             return s;
         case RelocOutcome::NotBetter:
             // Nothing around fits better: the frame's own pose is confirmed.
             doubt_ = false;
+            if (!lost_search) confirmed_t_ = f.scan->t;
             if (unconfirmed) evidence.push_back(HealthEvidence::Confirmed);
             break;
         default:

@@ -3,6 +3,8 @@
 #include <superloc/core/se3.h>
 #include <superloc/localization/relocalization.h>
 
+#include <cmath>
+
 namespace superloc::localization {
 
 const char* relocOutcomeName(RelocOutcome o) {
@@ -13,6 +15,7 @@ const char* relocOutcomeName(RelocOutcome o) {
         case RelocOutcome::TooFar: return "too_far";
         case RelocOutcome::Ambiguous: return "ambiguous";
         case RelocOutcome::Failed: return "failed";
+        case RelocOutcome::Deferred: return "deferred";
     }
     return "?";
 }
@@ -32,6 +35,7 @@ void RelocalizationParams::loadFromConfigFile(const mrpt::config::CConfigFileBas
     MRPT_LOAD_CONFIG_VAR(distinct_deg, double, c, s);
     MRPT_LOAD_CONFIG_VAR(doubt_max_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(doubt_max_deg, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(doubt_search_period, double, c, s);
     out_of_map = c.read_string(s, "out_of_map", out_of_map);
     MRPT_LOAD_CONFIG_VAR(start_xyz, double, c, s);
     MRPT_LOAD_CONFIG_VAR(start_deg, double, c, s);
@@ -65,6 +69,7 @@ void RelocalizationParams::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     MRPT_SAVE_CONFIG_VAR_COMMENT(distinct_deg, "[deg] ...or rotated more than this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_xyz, "[m] a frame in doubt takes a verified pose only within this");
     MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_max_deg, "[deg] ...and within this rotation");
+    MRPT_SAVE_CONFIG_VAR_COMMENT(doubt_search_period, "[s] a frame only in doubt is searched at most once per this (0: every one)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(out_of_map, "initial pose outside the map: error | global");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_xyz, "[m] a given initial pose's uncertainty: the first frame is also solved from seeds this far around it (0: off)");
     MRPT_SAVE_CONFIG_VAR_COMMENT(start_deg, "[deg] ...and this far in yaw either way");
@@ -109,6 +114,8 @@ void RelocalizationParams::validate() const {
         throw ConfigError("[relocalization] distinct_xyz and distinct_deg must be > 0");
     if (!(doubt_max_xyz > 0) || !(doubt_max_deg > 0))
         throw ConfigError("[relocalization] doubt_max_xyz and doubt_max_deg must be > 0");
+    if (!(doubt_search_period >= 0) || !std::isfinite(doubt_search_period))
+        throw ConfigError("[relocalization] doubt_search_period must be >= 0 s");
     if (out_of_map != "error" && out_of_map != "global")
         throw ConfigError("[relocalization] out_of_map = '" + out_of_map + "' (use error or global)");
     if (!(start_xyz >= 0) || !(start_deg >= 0) || start_deg > 180)

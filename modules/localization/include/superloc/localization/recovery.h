@@ -106,6 +106,9 @@ class Recovery {
     /// every frame since the last `ok` one was predicted by the IMU (the doubt guard trusts it)
     bool imu_chain_ = true;
     bool doubt_ = false;  ///< a frame in doubt was not settled by a search: confirm the next
+    /// the scan time of the last search of a frame only in doubt that confirmed the frame's own
+    /// pose (doubt_search_period); reset by a search that moved it
+    std::optional<double> confirmed_t_;
     /// the last frame was `ok` or a verified relocalization: its pose can anchor a velocity
     bool prev_verified_ = false;
 };

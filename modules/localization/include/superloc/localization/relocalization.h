@@ -37,6 +37,13 @@ struct RelocalizationParams : public mrpt::config::CLoadableOptions {
     /// this of its own solve: a correction, not a move to another place
     double doubt_max_xyz = 1.5;   ///< [m]
     double doubt_max_deg = 15.0;  ///< [deg]
+    /// [s] after a doubt's search confirmed the frame's own pose (not_better), a frame only in
+    /// doubt (it did not settle in its rounds, or waits for a search to confirm it; not one that
+    /// fits clearly worse, nor a lost one) within this period is not searched: it keeps its own
+    /// pose, degraded, its doubt carried to the next frame (frames.csv reloc_result `deferred`). Bounds what a map that disagrees with the scans
+    /// costs (KITTI's warped map: a search, 65-85 ms, on 4 of 7 tracked frames), at the price of
+    /// frames left off until the next search (doc/health.md). 0 (default): every such frame.
+    double doubt_search_period = 0.0;
     /// an initial pose outside the map's bounds (grown by features.max_range): `error` (one-line
     /// error) or `global` (localize the first scan globally instead)
     std::string out_of_map = "error";
@@ -95,9 +102,11 @@ enum class RelocOutcome {
     NotBetter,  ///< nothing verified fits better than the frame's own solve: it stands (confirmed)
     TooFar,     ///< a frame in doubt (IMU-predicted) would have moved too far: not taken
     Ambiguous,  ///< distinct verified poses fit about as well, or the winner has a weak axis
-    Failed      ///< no hypothesis, or none verified
+    Failed,     ///< no hypothesis, or none verified
+    Deferred    ///< a frame in doubt not searched: one was, less than doubt_search_period ago
 };
-/// "", "accepted", "not_better", "too_far", "ambiguous", "failed" (frames.csv reloc_result).
+/// "", "accepted", "not_better", "too_far", "ambiguous", "failed", "deferred" (frames.csv
+/// reloc_result).
 const char* relocOutcomeName(RelocOutcome o);
 
 /// What a relocalization did on a frame (FrameReport::reloc).
