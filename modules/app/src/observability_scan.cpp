@@ -8,9 +8,7 @@
 
 namespace superloc::app {
 
-ObservabilityScan::ObservabilityScan(double voxel) : voxels_(static_cast<float>(voxel)) {
-    if (!(voxel > 0)) throw std::invalid_argument("ObservabilityScan: voxel must be > 0");
-}
+ObservabilityScan::ObservabilityScan(double voxel) : voxels_(static_cast<float>(voxel)) {}
 
 void ObservabilityScan::add(const std::vector<Vec3f>& points, const std::vector<int8_t>& labels) {
     const size_t n = std::min(points.size(), labels.size());

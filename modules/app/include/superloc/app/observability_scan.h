@@ -16,7 +16,7 @@ namespace superloc::app {
 
 class ObservabilityScan {
  public:
-    /// voxel [m] > 0.
+    /// voxel [m] > 0 (std::invalid_argument otherwise).
     explicit ObservabilityScan(double voxel);
 
     /// Points in the map frame with their translation labels (0 x, 1 y, 2 z, other: none).
@@ -34,7 +34,7 @@ class ObservabilityScan {
  private:
     /// The colour of voxel i: its most frequent label's.
     std::array<uint8_t, 3> colour(size_t i) const;
-    VoxelFirstPoints voxels_;  ///< each voxel's first point (16-28 bytes a voxel with its slots)
+    VoxelFirstPoints voxels_;  ///< each voxel's first point (20-28 bytes a voxel with its slots)
     std::vector<std::array<uint32_t, 4>> votes_;  ///< x, y, z, none
 };
 

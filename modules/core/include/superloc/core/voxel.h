@@ -92,9 +92,9 @@ class VoxelSet {
 
 /// The first point of every voxel of a growing cloud, and each voxel's number (its first point's
 /// index in points()): an open-addressing table of 4-byte point indices, a probe comparing the
-/// voxel of the point a slot names (recomputed, so no key is stored). At most 8 bytes a voxel
-/// besides the points, against VoxelIndex's 32 and a node-based map's ~70 (the observability
-/// scan of a 30-minute run: 1.35 M voxels).
+/// voxel of the point a slot names (recomputed, so no key is stored). 8-16 bytes a voxel besides
+/// the points (a load between a quarter and a half), against VoxelIndex's 32-64 (the
+/// observability scan of a 30-minute run: 1.35 M voxels).
 class VoxelFirstPoints {
    public:
     /// voxel [m] > 0 (std::invalid_argument otherwise).
