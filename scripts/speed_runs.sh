@@ -22,7 +22,9 @@ taskset -c "$CORE" "$BIN/superloc-bench" "$ROOT/ini/bench/speed.ini" --jobs 1 --
   "${seqs[@]}" > "$OUT/bench.log" 2>&1 || { echo "superloc-bench failed, see $OUT/bench.log"; exit 1; }
 python3 - "$OUT" "$@" <<'PY'
 import csv, json, os, sys
-out, names = sys.argv[1], sys.argv[2:] or "corridor cave multifloor openfield office campus kitti-ref kitti-gt".split()
+out = sys.argv[1]
+# The runs asked for, else every run of the suite (results.json, in the suite's order).
+names = sys.argv[2:] or [r["sequence"] for r in json.load(open(os.path.join(out, "results.json")))["runs"]]
 for name in names:
     d = os.path.join(out, "runs", name, "superloc")
     s = json.load(open(os.path.join(d, "summary.json")))

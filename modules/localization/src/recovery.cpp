@@ -89,9 +89,10 @@ RecoveryDecision Recovery::recoverIfLost(Frame& f, bool may_search, const OwnPos
     // its pose, degraded, and its doubt goes on to the next frame. A search that moved the pose
     // does not hold the next one back: tracking from there is what is in question.
     const bool lost_search = lost_run_ >= rp.local_after_lost;
-    const bool deferred = search_ && may_search && suspicious && !lost_search && !c.badFit() && confirmed_t_ &&
+    const bool wants = search_ && may_search && (lost_search || suspicious);
+    const bool deferred = wants && !lost_search && !c.badFit() && confirmed_t_ &&
                           f.scan->t - *confirmed_t_ < rp.doubt_search_period;
-    if (deferred || !(search_ && may_search && (lost_search || suspicious))) {
+    if (!wants || deferred) {
         if (c.inDoubt() || v.health == Health::Lost || deferred) doubt_ = true;
         RecoveryDecision d;
         d.evidence = std::move(evidence);
