@@ -5,6 +5,7 @@
 #include <superloc/eval/evaluation.h>
 #include <superloc/io/json_file.h>
 #include <superloc/app/report_plots.h>
+#include <superloc/app/run_outputs.h>
 #include <superloc/app/svg_plot.h>
 #include <superloc_testing/testing.h>
 
@@ -164,4 +165,34 @@ TEST(FrameLog, ShiftedRowsKeepLeadingColumns) {
     const FrameLog log = loadFrameLog(path);
     EXPECT_EQ(log.stage_ms.at("ms_total"), (std::vector<double>{10, 12}));
     EXPECT_EQ(log.stage_ms.at("ms_solve"), (std::vector<double>{4}));
+}
+
+// summary.json's frame figures from RunTally: counts at once, then the ATE against the GT
+// interpolated at each frame's time (a frame 0.3 m off and one on the track: RMSE sqrt(0.045)),
+// a frame beyond the GT's reach unmatched, and the pose sigmas of the frames not lost only.
+TEST(RunTally, CountsSigmasAndAteAgainstInterpolatedGroundTruth) {
+    app::RunTally tally;
+    app::RunSummary s;
+    for (double t : {0.0, 1.0, 2.0}) tally.addGroundTruth({t, makePoseRPY(t, 0, 0, 0, 0, 0), std::nullopt});
+    const auto frame = [](double t, localization::Health h, double sigma) {
+        localization::FrameReport r;
+        r.t = t;
+        r.health = h;
+        r.ms.total = r.ms.total_cpu = 10 * t + 1;
+        r.cov = Mat6d::Identity() * sigma * sigma;
+        return r;
+    };
+    tally.addFrame(frame(0.5, localization::Health::Ok, 0.1), makePoseRPY(0.5, 0.3, 0, 0, 0, 0), s);
+    tally.addFrame(frame(1.5, localization::Health::Degraded, 0.2), makePoseRPY(1.5, 0, 0, 0, 0, 0), s);
+    tally.addFrame(frame(9.0, localization::Health::Lost, 5.0), makePoseRPY(9, 0, 0, 0, 0, 0), s);
+    EXPECT_EQ(s.frames, 3u);
+    EXPECT_EQ(s.health[0], 1u);
+    EXPECT_EQ(s.health[1], 1u);
+    EXPECT_EQ(s.health[2], 1u);
+    tally.fill(s);
+    EXPECT_EQ(s.gt_matched, 2u);
+    EXPECT_NEAR(s.ate_rmse, std::sqrt(0.09 / 2), 1e-9);
+    EXPECT_NEAR(s.ate_max, 0.3, 1e-9);
+    EXPECT_NEAR(s.sigma_xyz[2], 0.2, 1e-9);  // the lost frame's 5 m left out
+    EXPECT_NEAR(s.ms_median, 16.0, 1e-9);    // 6, 16, 91
 }

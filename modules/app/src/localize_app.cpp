@@ -78,26 +78,6 @@ LocalizeApp::LocalizeApp() : mrpt::system::COutputLogger("superloc-localize") {}
 
 namespace {
 
-/// A pose of the run kept for the summary's ATE (an estimate, or the rawlog's ground truth):
-/// 104 bytes where a PoseStamped takes 432 (its optional covariance); a 30-minute run keeps
-/// 35 000 of them.
-struct KeptPose {
-    double t = 0;
-    Mat3d R = Mat3d::Identity();
-    Vec3d p = Vec3d::Zero();
-    static KeptPose of(const PoseStamped& s) { return {s.t, s.pose.linear(), s.pose.translation()}; }
-};
-
-Trajectory trajectoryOf(const std::vector<KeptPose>& kept) {
-    Trajectory out(kept.size());
-    for (size_t i = 0; i < kept.size(); ++i) {
-        out[i].t = kept[i].t;
-        out[i].pose.linear() = kept[i].R;
-        out[i].pose.translation() = kept[i].p;
-    }
-    return out;
-}
-
 /// The command line of superloc-localize; every value lands in `a`.
 struct LocalizeArgs {
     std::string config, rawlog, map, method, out, pose, pose_tum;
@@ -286,8 +266,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
     summary_.map_points = prior->size();
     summary_.map_prepare_s = prior->prepareSeconds();
     summary_.map_points_max = prior->size();
-    std::vector<double> ms, cpu, st[5], sigma_xyz, sigma_deg;
-    std::vector<KeptPose> est, gt;
+    RunTally tally;
     io::RawlogItem item;
     bool in_divergence = false;
     // The statistics of the frames processed so far, and summary.json, localized_map.pcd and
@@ -308,33 +287,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
         }
         summary_.status = error.empty() ? "ok" : "failed";
         summary_.error = error;
-        const eval::TimingStats wall = eval::timingStats(ms);
-        summary_.ms_median = wall.median_ms;
-        summary_.ms_p95 = wall.p95_ms;
-        summary_.ms_mean = wall.mean_ms;
-        summary_.fps = wall.fps;
-        summary_.cpu_ms_median = eval::median(cpu);
-        for (auto* v : {&sigma_xyz, &sigma_deg}) {
-            auto& out = v == &sigma_xyz ? summary_.sigma_xyz : summary_.sigma_deg;
-            if (v->empty()) continue;
-            std::vector<double> s = *v;
-            std::sort(s.begin(), s.end());
-            out = {s[s.size() / 2], s[std::min(s.size() - 1, s.size() * 95 / 100)], s.back()};
-        }
-        summary_.stage_median = {eval::median(st[0]), eval::median(st[1]), eval::median(st[2]),
-                                 eval::median(st[3]), eval::median(st[4]), summary_.ms_median};
-        // ATE against the rawlog's own ground truth, when it has one (same frame as the output,
-        // no alignment): GT interpolated at each estimate's time (gaps up to 1 s), then eval's ATE.
-        const Trajectory est_t = trajectoryOf(est), gt_t = trajectoryOf(gt);
-        Trajectory gt_at;
-        for (const auto& e : est_t)
-            if (const auto g = interpolateAt(gt_t, e.t, 1.0, 1e-3)) gt_at.push_back({e.t, *g, {}});
-        if (!gt_at.empty()) {
-            const eval::Association pairs = eval::associate(est_t, gt_at, 1e-6);
-            const eval::AteResult ate = eval::computeAte(est_t, gt_at, pairs, false);
-            summary_.gt_matched = ate.trans.n;
-            if (ate.trans.n) summary_.ate_rmse = ate.trans.rmse, summary_.ate_max = ate.trans.max;
-        }
+        tally.fill(summary_);
         // A tiled map: the report's map is every tile the run came near, not only the first ones.
         if (RunReport* report = out.report(); report && tiles)
             for (const auto& file : tilesAlong(tiles->tiles().index(), report->frames(), tiles->tiles().radius())) {
@@ -352,7 +305,7 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
             switch (item.kind) {
                 case io::RawlogItem::Kind::Imu: loc.addImu(item.imu()); break;
                 case io::RawlogItem::Kind::OdomAlt: loc.addOdomAlt(item.pose()); break;
-                case io::RawlogItem::Kind::GroundTruth: gt.push_back(KeptPose::of(item.pose())); break;
+                case io::RawlogItem::Kind::GroundTruth: tally.addGroundTruth(item.pose()); break;
                 case io::RawlogItem::Kind::Lidar: {
                     const localization::FrameReport r = loc.process(item.scan(), &frame_out);
                     const SE3d T = body ? r.T_map_imu : r.T_map_lidar;
@@ -364,31 +317,11 @@ int LocalizeApp::run(const std::function<void(const localization::FrameReport&)>
                                           tm.pointsLoaded());
                     }
                     out.addFrame(r, T, frame_out.map_points);
-                    est.push_back(KeptPose{r.t, T.linear(), T.translation()});
                     if (run_.save_observability_scan) {
                         obs_scan.add(frame_out.obs_points, frame_out.obs_labels);
                         if (summary_.frames % 200 == 199) obs_scan.write(obs_path);  // progressive
                     }
-                    ms.push_back(r.ms.total);
-                    cpu.push_back(r.ms.total_cpu);
-                    st[0].push_back(r.ms.predict), st[1].push_back(r.ms.preprocess);
-                    st[2].push_back(r.ms.associate), st[3].push_back(r.ms.risk), st[4].push_back(r.ms.solve);
-                    summary_.frames++;
-                    summary_.diverged += r.diverged;
-                    summary_.converged += r.converged;
-                    summary_.used_imu += r.used_imu;
-                    summary_.with_prior += r.prior_used;
-                    summary_.recovered += r.recovered;
-                    summary_.health[static_cast<size_t>(r.health)]++;
-                    if (r.health != localization::Health::Lost && r.cov.trace() > 0) {
-                        // The pose's largest std (doc/method.md §4) over the run, frames not lost.
-                        sigma_xyz.push_back(fusion::largestStd(r.cov.topLeftCorner<3, 3>()));
-                        sigma_deg.push_back(fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) / kDeg);
-                    }
-                    const bool flagged = !r.degenerate_axes.empty();
-                    summary_.flagged += flagged;
-                    summary_.flagged_without_prior += flagged && !r.prior_used;
-                    for (int k = 0; k < 6; ++k) summary_.flagged_axis[k] += r.degenerate[k];
+                    tally.addFrame(r, T, summary_);
                     // Log divergence when it starts and ends, not on every frame of a long episode.
                     if (r.diverged != in_divergence)
                         MRPT_LOG_WARN_FMT("frame %zu (t=%.3f): %s (%s), inlier ratio %.2f", r.index, r.t,

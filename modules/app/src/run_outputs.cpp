@@ -4,6 +4,8 @@
 #include <superloc/app/report_plots.h>
 #include <superloc/app/run_outputs.h>
 #include <superloc/core/se3.h>
+#include <superloc/eval/timing.h>
+#include <superloc/eval/trajectory_metrics.h>
 #include <superloc/fusion/pose_posterior.h>
 
 #include <algorithm>
@@ -151,6 +153,72 @@ void RunOutputs::addFrame(const localization::FrameReport& r, const SE3d& T, con
     if (report_) report_->addFrame(r, T);
     for (const auto& p : map_points) {
         if (voxel_ <= 0 || occupied_.insert(voxelKey(p, voxel_))) map_.push_back(p);
+    }
+}
+
+void RunTally::addFrame(const localization::FrameReport& r, const SE3d& T, RunSummary& s) {
+    est_.push_back(KeptPose{r.t, T.linear(), T.translation()});
+    ms_.push_back(r.ms.total);
+    cpu_.push_back(r.ms.total_cpu);
+    stage_[0].push_back(r.ms.predict), stage_[1].push_back(r.ms.preprocess);
+    stage_[2].push_back(r.ms.associate), stage_[3].push_back(r.ms.risk), stage_[4].push_back(r.ms.solve);
+    s.frames++;
+    s.diverged += r.diverged;
+    s.converged += r.converged;
+    s.used_imu += r.used_imu;
+    s.with_prior += r.prior_used;
+    s.recovered += r.recovered;
+    s.health[static_cast<size_t>(r.health)]++;
+    if (r.health != localization::Health::Lost && r.cov.trace() > 0) {
+        // The pose's largest std (doc/method.md §4) over the run, frames not lost.
+        sigma_xyz_.push_back(fusion::largestStd(r.cov.topLeftCorner<3, 3>()));
+        sigma_deg_.push_back(fusion::largestStd(r.cov.bottomRightCorner<3, 3>()) / kDeg);
+    }
+    const bool flagged = !r.degenerate_axes.empty();
+    s.flagged += flagged;
+    s.flagged_without_prior += flagged && !r.prior_used;
+    for (int k = 0; k < 6; ++k) s.flagged_axis[k] += r.degenerate[k];
+}
+
+void RunTally::addGroundTruth(const PoseStamped& p) { gt_.push_back(KeptPose{p.t, p.pose.linear(), p.pose.translation()}); }
+
+Trajectory RunTally::trajectoryOf(const std::vector<KeptPose>& kept) {
+    Trajectory out(kept.size());
+    for (size_t i = 0; i < kept.size(); ++i) {
+        out[i].t = kept[i].t;
+        out[i].pose.linear() = kept[i].R;
+        out[i].pose.translation() = kept[i].p;
+    }
+    return out;
+}
+
+void RunTally::fill(RunSummary& s) const {
+    const eval::TimingStats wall = eval::timingStats(ms_);
+    s.ms_median = wall.median_ms;
+    s.ms_p95 = wall.p95_ms;
+    s.ms_mean = wall.mean_ms;
+    s.fps = wall.fps;
+    s.cpu_ms_median = eval::median(cpu_);
+    for (const auto* v : {&sigma_xyz_, &sigma_deg_}) {
+        auto& out = v == &sigma_xyz_ ? s.sigma_xyz : s.sigma_deg;
+        if (v->empty()) continue;
+        std::vector<double> sorted = *v;
+        std::sort(sorted.begin(), sorted.end());
+        out = {sorted[sorted.size() / 2], sorted[std::min(sorted.size() - 1, sorted.size() * 95 / 100)], sorted.back()};
+    }
+    s.stage_median = {eval::median(stage_[0]), eval::median(stage_[1]), eval::median(stage_[2]),
+                      eval::median(stage_[3]), eval::median(stage_[4]), s.ms_median};
+    // ATE against the rawlog's own ground truth, when it has one (same frame as the output, no
+    // alignment): GT interpolated at each estimate's time (gaps up to 1 s), then eval's ATE.
+    const Trajectory est = trajectoryOf(est_), gt = trajectoryOf(gt_);
+    Trajectory gt_at;
+    for (const auto& e : est)
+        if (const auto g = interpolateAt(gt, e.t, 1.0, 1e-3)) gt_at.push_back({e.t, *g, {}});
+    if (!gt_at.empty()) {
+        const eval::Association pairs = eval::associate(est, gt_at, 1e-6);
+        const eval::AteResult ate = eval::computeAte(est, gt_at, pairs, false);
+        s.gt_matched = ate.trans.n;
+        if (ate.trans.n) s.ate_rmse = ate.trans.rmse, s.ate_max = ate.trans.max;
     }
 }
 

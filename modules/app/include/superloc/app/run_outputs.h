@@ -71,6 +71,32 @@ struct RunSummary {
 /// null with a warning).
 io::Json summaryJson(const RunSummary& s);
 
+/// What summary.json says of the frames, gathered frame by frame: the counts go into the
+/// summary at once, the rest is kept for fill() (each frame's stage times, its pose's largest
+/// std, and its pose and the rawlog's GT for the ATE as 104-byte records: a 30-minute run keeps
+/// 35 000 of them).
+class RunTally {
+   public:
+    /// Counts the frame into s (frames, diverged, health, flagged axes...) and keeps its times,
+    /// sigmas and written pose.
+    void addFrame(const localization::FrameReport& r, const SE3d& T_written, RunSummary& s);
+    void addGroundTruth(const PoseStamped& p);
+    /// s's wall and CPU times, stage medians, pose sigmas (median, p95, max) and ATE against the
+    /// ground truth (interpolated at each frame's time, gaps up to 1 s; no alignment), from the
+    /// frames so far.
+    void fill(RunSummary& s) const;
+
+   private:
+    struct KeptPose {
+        double t = 0;
+        Mat3d R = Mat3d::Identity();
+        Vec3d p = Vec3d::Zero();
+    };
+    static Trajectory trajectoryOf(const std::vector<KeptPose>& kept);
+    std::vector<double> ms_, cpu_, stage_[5], sigma_xyz_, sigma_deg_;
+    std::vector<KeptPose> est_, gt_;
+};
+
 class RunOutputs {
    public:
     /// Creates DIR (and parents) and opens trajectory.tum and frames.csv. Throws
